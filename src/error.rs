@@ -1,0 +1,159 @@
+//! The one error type of the kernel.
+//!
+//! Every message says what was wrong and where, naming the element at fault
+//! ("face 17, loop 0: vertex index 1203 is out of range (the mesh has 1200 vertices)").
+//! [`Error::kind`] sorts the variants into the families a caller acts on differently:
+//! bad input, bad topology, I/O, and internal bugs.
+
+use std::path::PathBuf;
+
+/// The family an [`Error`] belongs to; the C ABI maps each family to a status code.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum ErrorKind {
+    /// The caller's data or arguments are invalid (indices, coordinates, option values).
+    BadInput,
+    /// The mesh is valid element by element but its connectivity is not what the operation needs.
+    BadTopology,
+    /// A file could not be read, written or parsed.
+    Io,
+    /// A bug in katachi: an invariant did not hold.
+    Internal,
+}
+
+/// Which of the three coordinates of a position.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Axis {
+    X,
+    Y,
+    Z,
+}
+
+impl std::fmt::Display for Axis {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Axis::X => "x",
+            Axis::Y => "y",
+            Axis::Z => "z",
+        })
+    }
+}
+
+/// Everything that can go wrong in katachi.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum Error {
+    /// A loop refers to a vertex that does not exist.
+    #[error("face {face}, loop {loop_index}: vertex index {index} is out of range (the mesh has {vertex_count} vertices)")]
+    VertexOutOfRange {
+        face: u32,
+        loop_index: u32,
+        index: u64,
+        vertex_count: u32,
+    },
+    /// A position has a NaN or infinite coordinate.
+    #[error("vertex {vertex}: coordinate {axis} is {value}, not a finite number")]
+    NonFiniteCoordinate { vertex: u32, axis: Axis, value: f64 },
+    /// A loop has fewer than three distinct vertices.
+    #[error("face {face}, loop {loop_index}: a loop needs at least 3 distinct vertices, this one has {distinct}")]
+    DegenerateLoop {
+        face: u32,
+        loop_index: u32,
+        distinct: u32,
+    },
+    /// A loop visits the same vertex twice.
+    #[error("face {face}, loop {loop_index}: vertex {vertex} appears more than once in the loop")]
+    RepeatedVertex {
+        face: u32,
+        loop_index: u32,
+        vertex: u32,
+    },
+    /// A face has no loops at all.
+    #[error("face {face} has no loops (a face needs an outer loop)")]
+    FaceWithoutLoops { face: u32 },
+    /// The operation needs a mesh with elements and got none.
+    #[error("the mesh is empty: {what} needs at least one {needs}")]
+    EmptyMesh {
+        what: &'static str,
+        needs: &'static str,
+    },
+    /// Flat construction arrays disagree with each other.
+    #[error("the mesh arrays disagree: {message}")]
+    InconsistentArrays { message: String },
+    /// An attribute array has the wrong length.
+    #[error("attribute {attribute}: expected {expected} values (one per {per}), got {got}")]
+    AttributeLength {
+        attribute: &'static str,
+        per: &'static str,
+        expected: usize,
+        got: usize,
+    },
+    /// A sharpness value is negative or not finite.
+    #[error("{element}: sharpness {value} is invalid (it must be finite and at least 0)")]
+    InvalidSharpness { element: String, value: f64 },
+    /// The two vertices are not joined by an edge of any face.
+    #[error("there is no edge between vertices {a} and {b}")]
+    NoSuchEdge { a: u32, b: u32 },
+    /// More than two faces share an edge.
+    #[error(
+        "edge {a}-{b} is non-manifold: it is used by {uses} face sides (at most 2 are allowed)"
+    )]
+    NonManifoldEdge { a: u32, b: u32, uses: u32 },
+    /// Two faces traverse an edge in the same direction.
+    #[error("edge {a}-{b} has inconsistent orientation: two faces traverse it from {a} to {b}")]
+    InconsistentOrientation { a: u32, b: u32 },
+    /// An option value is outside its domain.
+    #[error("option {option}: {message}")]
+    InvalidOption {
+        option: &'static str,
+        message: String,
+    },
+    /// An argument is invalid (used by the C ABI and the CLI for things that are not mesh data).
+    #[error("{0}")]
+    InvalidArgument(String),
+    /// The operating system refused a file operation.
+    #[error("{path}: {source}")]
+    Io {
+        path: PathBuf,
+        #[source]
+        source: std::io::Error,
+    },
+    /// A file is malformed. `line` is 1-based; for binary files `line` is 0 and `byte` is set.
+    #[error("{}", parse_message(path, *line, *byte, message))]
+    Parse {
+        path: PathBuf,
+        line: usize,
+        byte: Option<u64>,
+        message: String,
+    },
+    /// The file extension names no format katachi reads or writes.
+    #[error("{path}: unknown file format (use .obj, .ply or .off)")]
+    UnknownFormat { path: PathBuf },
+    /// A bug in katachi.
+    #[error("internal error: {0} (this is a bug in katachi; please report it)")]
+    Internal(String),
+}
+
+fn parse_message(path: &std::path::Path, line: usize, byte: Option<u64>, message: &str) -> String {
+    match (line, byte) {
+        (0, Some(b)) => format!("{}: byte {b}: {message}", path.display()),
+        (0, None) => format!("{}: {message}", path.display()),
+        (l, _) => format!("{}:{l}: {message}", path.display()),
+    }
+}
+
+impl Error {
+    /// The family of this error.
+    pub fn kind(&self) -> ErrorKind {
+        match self {
+            Error::NonManifoldEdge { .. } | Error::InconsistentOrientation { .. } => {
+                ErrorKind::BadTopology
+            }
+            Error::Io { .. } | Error::Parse { .. } | Error::UnknownFormat { .. } => ErrorKind::Io,
+            Error::Internal(_) => ErrorKind::Internal,
+            _ => ErrorKind::BadInput,
+        }
+    }
+}
+
+/// `Result` with katachi's [`Error`].
+pub type Result<T, E = Error> = std::result::Result<T, E>;

@@ -1,0 +1,26 @@
+//! # katachi (形, "shape")
+//!
+//! A mesh-modelling kernel: solid-aware Catmull-Clark subdivision (seed 001), stroke cut
+//! (seed 002), rough-model editing (seed 003) and curved anisotropic meshing (seed 000),
+//! shipped as a Rust library, a C library (`include/katachi.h`), a command-line tool, a
+//! Blender add-on and a MeshLab plugin.
+//!
+//! Every operation is a pure function `op(&PolyMesh, &Options) -> Result<Output, Error>`:
+//! it never changes its input, and bad input gets an [`Error`] naming the element at fault.
+//!
+//! ```
+//! use katachi::{mesh::shapes, PolyMesh};
+//! let cube: PolyMesh = shapes::cube(1.0);
+//! let topo = cube.connectivity().unwrap();
+//! assert_eq!(topo.edge_count(), 12);
+//! assert_eq!(topo.euler_characteristic(&cube), 2);
+//! ```
+
+pub mod error;
+pub mod ffi;
+pub mod io;
+pub mod mesh;
+
+pub use error::{Error, ErrorKind, Result};
+pub use glam::DVec3;
+pub use mesh::{FaceId, HalfedgeId, PolyMesh, Topology, VertexId};

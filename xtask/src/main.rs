@@ -1,0 +1,46 @@
+//! `cargo xtask <task>`: the project's automation. See `cargo xtask help`.
+
+mod bench;
+mod ctest;
+mod deps;
+mod header;
+mod test;
+mod util;
+
+use std::process::ExitCode;
+
+const HELP: &str = "\
+cargo xtask <task>
+
+tasks:
+  deps            install the Debian packages the tests need (root, Debian/Ubuntu; idempotent)
+  test            run every test: fmt, clippy, cargo test, header check, C/C++ tests under valgrind
+  bench           run the benchmarks (criterion)
+  header          regenerate include/katachi.h with the pinned cbindgen
+  header --check  fail if include/katachi.h is stale
+  ctest           build and run the C/C++ link tests under valgrind
+";
+
+fn main() -> ExitCode {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let rest: Vec<&str> = args.iter().skip(1).map(String::as_str).collect();
+    let result = match args.first().map(String::as_str) {
+        Some("deps") => deps::run(&rest),
+        Some("test") => test::run(&rest),
+        Some("bench") => bench::run(&rest),
+        Some("header") => header::run(&rest),
+        Some("ctest") => ctest::run(&rest),
+        Some("help") | Some("--help") | Some("-h") | None => {
+            print!("{HELP}");
+            Ok(())
+        }
+        Some(other) => Err(format!("unknown task `{other}`\n\n{HELP}")),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("xtask: error: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}

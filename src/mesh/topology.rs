@@ -87,21 +87,21 @@ impl Topology {
         let nv = mesh.vertex_count() as usize;
         let corners = mesh.corners();
         let n = corners.len();
-        // Corner successor within its loop, and loop → face.
-        let mut corner_next = vec![0u32; n];
+        // The vertex each corner's half-edge points to, and loop → face.
+        let mut head = vec![VertexId::INVALID; n];
         let mut loop_face = Vec::with_capacity(mesh.loop_count() as usize);
         let loop_offsets = mesh.loop_offsets();
         for f in mesh.faces() {
             for l in mesh.face_loops(f) {
                 loop_face.push(f);
-                let (a, b) = (loop_offsets[l.idx()], loop_offsets[l.idx() + 1]);
-                for k in a..b - 1 {
-                    corner_next[k as usize] = k + 1;
-                }
-                corner_next[(b - 1) as usize] = a;
+                let (a, b) = (
+                    loop_offsets[l.idx()] as usize,
+                    loop_offsets[l.idx() + 1] as usize,
+                );
+                head[a..b - 1].copy_from_slice(&corners[a + 1..b]);
+                head[b - 1] = corners[a];
             }
         }
-        let head = |k: u32| corners[corner_next[k as usize] as usize];
 
         // Counting sort of corners by start vertex.
         let mut out_start = vec![0u32; nv + 1];
@@ -129,12 +129,26 @@ impl Topology {
             if corner_halfedge[k as usize].is_valid() {
                 continue;
             }
-            let (a, b) = (corners[k as usize], head(k));
-            let same = leaving(a).iter().filter(|&&j| head(j) == b);
-            let opp = leaving(b).iter().filter(|&&j| head(j) == a);
-            let (n_same, n_opp) = (same.clone().count() as u32, opp.clone().count() as u32);
-            if n_same + n_opp > 1 && (n_same > 1 || n_opp > 1) {
-                let first = same.clone().chain(opp.clone()).min() == Some(&k);
+            let (a, b) = (corners[k as usize], head[k as usize]);
+            let (mut n_opp, mut twin, mut min_opp) = (0u32, None, u32::MAX);
+            for &j in leaving(b) {
+                if head[j as usize] == a {
+                    n_opp += 1;
+                    min_opp = min_opp.min(j);
+                    if twin.is_none() && !corner_halfedge[j as usize].is_valid() {
+                        twin = Some(j);
+                    }
+                }
+            }
+            let (mut n_same, mut min_same) = (0u32, u32::MAX);
+            for &j in leaving(a) {
+                if head[j as usize] == b {
+                    n_same += 1;
+                    min_same = min_same.min(j);
+                }
+            }
+            if n_same > 1 || n_opp > 1 {
+                let first = min_same.min(min_opp) == k;
                 if n_same + n_opp > 2 {
                     if !options.tolerate_non_manifold {
                         return Err(Error::NonManifoldEdge {
@@ -155,9 +169,6 @@ impl Topology {
                     }
                 }
             }
-            let twin = opp
-                .copied()
-                .find(|&j| !corner_halfedge[j as usize].is_valid());
             let h = HalfedgeId(to.len() as u32);
             corner_halfedge[k as usize] = h;
             to.push(b);
@@ -166,6 +177,7 @@ impl Topology {
             }
             to.push(a);
         }
+        drop(head);
         let nh = to.len();
 
         // Faces, loops, next and prev of face half-edges.
@@ -177,7 +189,7 @@ impl Topology {
             let (a, b) = (loop_offsets[l], loop_offsets[l + 1]);
             for k in a..b {
                 let h = corner_halfedge[k as usize];
-                let hn = corner_halfedge[corner_next[k as usize] as usize];
+                let hn = corner_halfedge[if k + 1 < b { k + 1 } else { a } as usize];
                 face[h.idx()] = f;
                 lp[h.idx()] = LoopId(l as u32);
                 next[h.idx()] = hn;

@@ -1,5 +1,76 @@
-//! `cargo xtask deps`.
+//! `cargo xtask deps`: installs the Debian packages the tests need.
+//!
+//! Idempotent: asks dpkg what is already there and installs only what is missing, printing
+//! what it installs. Needs root on Debian or Ubuntu; elsewhere it says which packages to get.
+
+use std::process::Command;
+
+use crate::util::{self, have};
+
+/// Debian packages, each with why it is needed.
+pub const PACKAGES: &[(&str, &str)] = &[
+    ("gcc", "C link tests (tests/c)"),
+    ("g++", "C++ link tests (tests/c)"),
+    ("valgrind", "memory checks of the C/C++ link tests"),
+    (
+        "pkg-config",
+        "building C programs against the installed library",
+    ),
+];
+
+fn installed(pkg: &str) -> bool {
+    Command::new("dpkg-query")
+        .args(["-W", "-f=${Status}", pkg])
+        .output()
+        .map(|o| String::from_utf8_lossy(&o.stdout).contains("install ok installed"))
+        .unwrap_or(false)
+}
+
+fn is_root() -> bool {
+    Command::new("id")
+        .arg("-u")
+        .output()
+        .map(|o| String::from_utf8_lossy(&o.stdout).trim() == "0")
+        .unwrap_or(false)
+}
 
 pub fn run(_args: &[&str]) -> Result<(), String> {
-    Err("not yet written".into())
+    if !have("dpkg-query") || !have("apt-get") {
+        let list: Vec<&str> = PACKAGES.iter().map(|p| p.0).collect();
+        return Err(format!(
+            "this is not a Debian/Ubuntu system (no dpkg-query/apt-get); install these packages by hand: {}",
+            list.join(" ")
+        ));
+    }
+    let missing: Vec<&(&str, &str)> = PACKAGES.iter().filter(|(p, _)| !installed(p)).collect();
+    if missing.is_empty() {
+        eprintln!("xtask deps: all {} packages are installed", PACKAGES.len());
+        return Ok(());
+    }
+    for (p, why) in &missing {
+        eprintln!("xtask deps: will install {p} ({why})");
+    }
+    if !is_root() {
+        return Err("installing packages needs root: run `sudo cargo xtask deps`".into());
+    }
+    util::run(
+        Command::new("apt-get")
+            .args(["update", "-q"])
+            .env("DEBIAN_FRONTEND", "noninteractive"),
+    )?;
+    let mut cmd = Command::new("apt-get");
+    cmd.args(["install", "-y", "-q", "--no-install-recommends"])
+        .env("DEBIAN_FRONTEND", "noninteractive");
+    cmd.args(missing.iter().map(|(p, _)| *p));
+    util::run(&mut cmd)?;
+    let still: Vec<&str> = missing
+        .iter()
+        .map(|p| p.0)
+        .filter(|p| !installed(p))
+        .collect();
+    if still.is_empty() {
+        Ok(())
+    } else {
+        Err(format!("apt-get did not install: {}", still.join(" ")))
+    }
 }

@@ -1,5 +1,54 @@
-//! `cargo xtask test`.
+//! `cargo xtask test`: every test, in order of cost, stopping at the first failure.
 
-pub fn run(_args: &[&str]) -> Result<(), String> {
-    Err("not yet written".into())
+use std::process::Command;
+use std::time::Instant;
+
+use crate::util;
+
+pub fn run(args: &[&str]) -> Result<(), String> {
+    let skip_c = args.contains(&"--no-c");
+    let start = Instant::now();
+    let mut steps: Vec<(&str, Box<dyn Fn() -> Result<(), String>>)> = vec![
+        (
+            "format",
+            Box::new(|| util::run(Command::new("cargo").args(["fmt", "--all", "--", "--check"]))),
+        ),
+        (
+            "clippy",
+            Box::new(|| {
+                util::run(Command::new("cargo").args([
+                    "clippy",
+                    "--workspace",
+                    "--all-targets",
+                    "--",
+                    "-D",
+                    "warnings",
+                ]))
+            }),
+        ),
+        ("header", Box::new(crate::header::check)),
+        (
+            "cargo test",
+            Box::new(|| util::run(Command::new("cargo").args(["test", "--workspace"]))),
+        ),
+    ];
+    if !skip_c {
+        steps.push(("C/C++ link tests", Box::new(|| crate::ctest::run(&[]))));
+    }
+    let total = steps.len();
+    for (i, (name, step)) in steps.iter().enumerate() {
+        eprintln!("xtask test: [{}/{total}] {name}", i + 1);
+        let t = Instant::now();
+        step().map_err(|e| format!("step `{name}` failed: {e}"))?;
+        eprintln!(
+            "xtask test: [{}/{total}] {name} ok ({:.0?})",
+            i + 1,
+            t.elapsed()
+        );
+    }
+    eprintln!(
+        "xtask test: all {total} steps passed in {:.0?}",
+        start.elapsed()
+    );
+    Ok(())
 }

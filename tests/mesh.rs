@@ -193,7 +193,7 @@ mod props {
             assert_eq!(topo.next(topo.prev(h)), h);
             assert_eq!(topo.from(topo.next(h)), topo.to(h));
             assert_eq!(topo.twin(topo.twin(h)), h);
-            assert_ne!(topo.is_boundary(h) && topo.is_boundary(topo.twin(h)), true);
+            assert!(!(topo.is_boundary(h) && topo.is_boundary(topo.twin(h))));
         }
         // Every corner's half-edge starts at the corner's vertex and belongs to its face.
         for l in 0..mesh.loop_count() {

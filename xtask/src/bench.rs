@@ -6,7 +6,7 @@ use std::process::Command;
 use crate::util;
 
 pub fn run(args: &[&str]) -> Result<(), String> {
-    let mut cmd = Command::new("cargo");
+    let mut cmd = Command::new(util::cargo());
     cmd.args(["bench", "--workspace"]);
     if !args.is_empty() {
         cmd.arg("--");

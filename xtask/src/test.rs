@@ -5,18 +5,20 @@ use std::time::Instant;
 
 use crate::util;
 
+type Step = Box<dyn Fn() -> Result<(), String>>;
+
 pub fn run(args: &[&str]) -> Result<(), String> {
     let skip_c = args.contains(&"--no-c");
     let start = Instant::now();
-    let mut steps: Vec<(&str, Box<dyn Fn() -> Result<(), String>>)> = vec![
+    let mut steps: Vec<(&str, Step)> = vec![
         (
             "format",
-            Box::new(|| util::run(Command::new("cargo").args(["fmt", "--all", "--", "--check"]))),
+            Box::new(|| util::run(Command::new(util::cargo()).args(["fmt", "--all", "--", "--check"]))),
         ),
         (
             "clippy",
             Box::new(|| {
-                util::run(Command::new("cargo").args([
+                util::run(Command::new(util::cargo()).args([
                     "clippy",
                     "--workspace",
                     "--all-targets",
@@ -29,7 +31,7 @@ pub fn run(args: &[&str]) -> Result<(), String> {
         ("header", Box::new(crate::header::check)),
         (
             "cargo test",
-            Box::new(|| util::run(Command::new("cargo").args(["test", "--workspace"]))),
+            Box::new(|| util::run(Command::new(util::cargo()).args(["test", "--workspace"]))),
         ),
     ];
     if !skip_c {

@@ -1,0 +1,673 @@
+//! `KatachiMesh`: the opaque mesh handle, its construction from flat arrays (faces with
+//! holes included), counts, copy-out of its arrays, and its sharpness attributes.
+//! Conversion and error mapping only; the work is [`crate::PolyMesh`]'s.
+
+use super::boundary::{
+    deref, deref_mut, guard, guard_value, out_buffer, slice, FfiError, FfiResult,
+};
+use super::status::KatachiStatus;
+use crate::mesh::{PolyMesh, VertexId};
+
+/// A polygon mesh whose faces may have holes, with its attributes (edge and vertex
+/// sharpness). Opaque: create it with `katachi_mesh_create`, `katachi_mesh_clone` or
+/// `katachi_mesh_read`, and free it with `katachi_mesh_free`.
+///
+/// A mesh may be read from several threads at once; a function that changes it (those taking
+/// a non-const `KatachiMesh*`) must not run concurrently with any other call on the same mesh.
+pub struct KatachiMesh {
+    pub(crate) mesh: PolyMesh,
+}
+
+impl KatachiMesh {
+    /// Moves `mesh` to the heap and hands it out as a C handle.
+    pub(crate) fn into_raw(mesh: PolyMesh) -> *mut KatachiMesh {
+        Box::into_raw(Box::new(KatachiMesh { mesh }))
+    }
+}
+
+/// The sizes of a mesh's arrays, filled in by `katachi_mesh_counts`.
+///
+/// Like every katachi struct that katachi fills in, it starts with `struct_size`: set it to
+/// `sizeof(KatachiMeshCounts)` (or start from `katachi_mesh_counts_default()`) before the call.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct KatachiMeshCounts {
+    /// Set by the caller to `sizeof(KatachiMeshCounts)`; katachi leaves it unchanged.
+    pub struct_size: u32,
+    /// Vertices, referenced by a face or not (`positions` holds 3 × this many doubles).
+    pub vertex_count: u32,
+    /// Faces.
+    pub face_count: u32,
+    /// Loops over all faces: one outer loop per face plus its holes.
+    pub loop_count: u32,
+    /// Corners over all loops (the length of the `corners` array).
+    pub corner_count: u32,
+    /// Edges with sharpness > 0 (the length of `katachi_mesh_copy_sharp_edges`'s output).
+    pub sharp_edge_count: u32,
+    /// Vertices with sharpness > 0.
+    pub sharp_vertex_count: u32,
+}
+
+/// The size of the first version of `KatachiMeshCounts`: smaller `struct_size`s are rejected.
+const COUNTS_MIN_SIZE: usize = std::mem::size_of::<KatachiMeshCounts>();
+
+const COUNTS_DEFAULT: KatachiMeshCounts = KatachiMeshCounts {
+    struct_size: std::mem::size_of::<KatachiMeshCounts>() as u32,
+    vertex_count: 0,
+    face_count: 0,
+    loop_count: 0,
+    corner_count: 0,
+    sharp_edge_count: 0,
+    sharp_vertex_count: 0,
+};
+
+/// The mesh behind a `const KatachiMesh*` parameter named `mesh`.
+///
+/// # Safety
+/// A non-NULL `p` must be a live handle from katachi, not being changed by another thread.
+pub(crate) unsafe fn mesh_ref<'a>(p: *const KatachiMesh) -> FfiResult<&'a PolyMesh> {
+    // SAFETY: forwarded to the caller.
+    Ok(&unsafe { deref(p, "mesh") }?.mesh)
+}
+
+/// The mesh behind a `KatachiMesh*` parameter named `mesh`, for changing it.
+///
+/// # Safety
+/// A non-NULL `p` must be a live handle from katachi that no other call is using.
+unsafe fn mesh_mut<'a>(p: *mut KatachiMesh) -> FfiResult<&'a mut PolyMesh> {
+    // SAFETY: forwarded to the caller.
+    Ok(&mut unsafe { deref_mut(p, "mesh") }?.mesh)
+}
+
+/// Checks an out-parameter for a new handle and sets `*out = NULL`, so that it is NULL on
+/// every failure after this point.
+///
+/// # Safety
+/// A non-NULL `out` must point to writable storage for one pointer.
+pub(crate) unsafe fn reset_out<'a>(
+    out: *mut *mut KatachiMesh,
+) -> FfiResult<&'a mut *mut KatachiMesh> {
+    // SAFETY: forwarded to the caller.
+    let out = unsafe { deref_mut(out, "out") }?;
+    *out = std::ptr::null_mut();
+    Ok(out)
+}
+
+/// Checks that `v` (the parameter `param`) is a vertex of `mesh`.
+fn check_vertex(mesh: &PolyMesh, v: u32, param: &str) -> FfiResult<VertexId> {
+    if v < mesh.vertex_count() {
+        Ok(VertexId(v))
+    } else {
+        Err(FfiError::invalid(format!(
+            "{param} = {v} is out of range (the mesh has {} vertices)",
+            mesh.vertex_count()
+        )))
+    }
+}
+
+/// Checks an edge given as two vertices, the parameters (or array elements) `names`.
+fn check_edge(
+    mesh: &PolyMesh,
+    a: u32,
+    b: u32,
+    names: [&str; 2],
+) -> FfiResult<(VertexId, VertexId)> {
+    let (va, vb) = (
+        check_vertex(mesh, a, names[0])?,
+        check_vertex(mesh, b, names[1])?,
+    );
+    if a == b {
+        return Err(FfiError::invalid(format!(
+            "{} and {} are both vertex {a}; an edge joins two different vertices",
+            names[0], names[1]
+        )));
+    }
+    Ok((va, vb))
+}
+
+/// Creates a mesh from flat arrays. Faces may have holes: each face has one or more loops,
+/// the first its outer boundary (counter-clockwise seen from the front), any further loops
+/// its holes (clockwise).
+///
+/// - `positions`: 3 × `vertex_count` doubles, `x0 y0 z0 x1 y1 z1 …`; every value finite.
+/// - `loop_sizes`: `loop_count` values, the number of corners of each loop (each ≥ 3).
+/// - `face_loop_counts`: `face_count` values, the number of loops of each face (each ≥ 1,
+///   outer loop first); they add up to `loop_count`.
+/// - `corners`: `corner_count` vertex indices, loop after loop; `loop_sizes` add up to
+///   `corner_count`, and each index is below `vertex_count`.
+///
+/// A simple polygon mesh has `face_loop_counts` all 1 and `loop_sizes` the polygon sizes.
+/// An array whose count is 0 may be NULL. The arrays are copied: the caller keeps them.
+///
+/// On success `*out` receives a new mesh, owned by the caller, to be freed with
+/// `katachi_mesh_free`. On failure `*out` is set to NULL (when `out` is not NULL itself).
+///
+/// Statuses: `KATACHI_STATUS_OK`; `KATACHI_STATUS_NULL_POINTER` (`out` NULL, or an array NULL
+/// with a nonzero count); `KATACHI_STATUS_BAD_INPUT` (a non-finite coordinate, counts that do
+/// not add up, an index out of range, a loop with fewer than 3 distinct vertices or a repeated
+/// vertex; the message names the face, loop and vertex); `KATACHI_STATUS_INVALID_ARGUMENT`
+/// (a misaligned array).
+///
+/// # Safety
+/// Each non-NULL array must hold the number of elements stated above; `out` must be NULL or
+/// point to writable storage for one pointer.
+#[no_mangle]
+#[allow(clippy::too_many_arguments)]
+pub unsafe extern "C" fn katachi_mesh_create(
+    positions: *const f64,
+    vertex_count: u32,
+    loop_sizes: *const u32,
+    loop_count: u32,
+    face_loop_counts: *const u32,
+    face_count: u32,
+    corners: *const u32,
+    corner_count: u32,
+    out: *mut *mut KatachiMesh,
+) -> KatachiStatus {
+    guard("katachi_mesh_create", || {
+        // SAFETY (all blocks): the caller's promises above.
+        let out = unsafe { reset_out(out) }?;
+        let n_pos = (vertex_count as usize).checked_mul(3).ok_or_else(|| {
+            FfiError::invalid(format!("vertex_count {vertex_count} is too large"))
+        })?;
+        let positions = unsafe {
+            slice(
+                positions,
+                n_pos,
+                "positions",
+                &format_args!("vertex_count is {vertex_count}"),
+            )
+        }?;
+        let loop_sizes = unsafe {
+            slice(
+                loop_sizes,
+                loop_count as usize,
+                "loop_sizes",
+                &format_args!("loop_count is {loop_count}"),
+            )
+        }?;
+        let face_loop_counts = unsafe {
+            slice(
+                face_loop_counts,
+                face_count as usize,
+                "face_loop_counts",
+                &format_args!("face_count is {face_count}"),
+            )
+        }?;
+        let corners = unsafe {
+            slice(
+                corners,
+                corner_count as usize,
+                "corners",
+                &format_args!("corner_count is {corner_count}"),
+            )
+        }?;
+        let mesh = PolyMesh::from_flat(positions, loop_sizes, face_loop_counts, corners)?;
+        *out = KatachiMesh::into_raw(mesh);
+        Ok(())
+    })
+}
+
+/// Frees a mesh made by katachi. NULL is allowed and does nothing. The handle must not be
+/// used afterwards, and must not be freed twice.
+///
+/// # Safety
+/// `mesh` must be NULL or a live handle from katachi that no other call is using.
+#[no_mangle]
+pub unsafe extern "C" fn katachi_mesh_free(mesh: *mut KatachiMesh) {
+    guard_value("katachi_mesh_free", (), || {
+        if !mesh.is_null() {
+            // SAFETY: a live handle made by `KatachiMesh::into_raw` (the caller's promise).
+            drop(unsafe { Box::from_raw(mesh) });
+        }
+    })
+}
+
+/// Copies a mesh with its attributes. On success `*out` receives a new mesh owned by the
+/// caller (free it with `katachi_mesh_free`); on failure `*out` is set to NULL.
+///
+/// Statuses: `KATACHI_STATUS_OK`; `KATACHI_STATUS_NULL_POINTER` (`mesh` or `out` NULL).
+///
+/// # Safety
+/// `mesh` must be NULL or a live handle; `out` NULL or writable storage for one pointer.
+#[no_mangle]
+pub unsafe extern "C" fn katachi_mesh_clone(
+    mesh: *const KatachiMesh,
+    out: *mut *mut KatachiMesh,
+) -> KatachiStatus {
+    guard("katachi_mesh_clone", || {
+        // SAFETY: the caller's promises above.
+        let out = unsafe { reset_out(out) }?;
+        let mesh = unsafe { mesh_ref(mesh) }?;
+        *out = KatachiMesh::into_raw(mesh.clone());
+        Ok(())
+    })
+}
+
+/// A `KatachiMeshCounts` with `struct_size = sizeof(KatachiMeshCounts)` and every count 0,
+/// ready to pass to `katachi_mesh_counts`.
+#[no_mangle]
+pub extern "C" fn katachi_mesh_counts_default() -> KatachiMeshCounts {
+    guard_value("katachi_mesh_counts_default", COUNTS_DEFAULT, || {
+        COUNTS_DEFAULT
+    })
+}
+
+/// Fills `*counts` with the sizes of the mesh's arrays, which are the sizes the copy-out
+/// functions need. The caller sets `counts->struct_size` first.
+///
+/// Statuses: `KATACHI_STATUS_OK`; `KATACHI_STATUS_NULL_POINTER` (`mesh` or `counts` NULL);
+/// `KATACHI_STATUS_INVALID_ARGUMENT` (`counts->struct_size` smaller than the first version of
+/// the struct). On failure `*counts` is unchanged.
+///
+/// # Safety
+/// `mesh` must be NULL or a live handle; `counts` NULL or a writable `KatachiMeshCounts` of
+/// at least `counts->struct_size` bytes.
+#[no_mangle]
+pub unsafe extern "C" fn katachi_mesh_counts(
+    mesh: *const KatachiMesh,
+    counts: *mut KatachiMeshCounts,
+) -> KatachiStatus {
+    guard("katachi_mesh_counts", || {
+        // SAFETY: the caller's promises above.
+        let mesh = unsafe { mesh_ref(mesh) }?;
+        let value = KatachiMeshCounts {
+            struct_size: 0, // not written: the caller's value stays
+            vertex_count: mesh.vertex_count(),
+            face_count: mesh.face_count(),
+            loop_count: mesh.loop_count(),
+            corner_count: mesh.corner_count(),
+            sharp_edge_count: mesh.sharp_edges().len() as u32,
+            sharp_vertex_count: mesh.vertex_sharpness().iter().filter(|&&s| s > 0.0).count() as u32,
+        };
+        unsafe {
+            super::boundary::write_sized(
+                counts,
+                value,
+                COUNTS_MIN_SIZE,
+                "counts",
+                "KatachiMeshCounts",
+            )
+        }
+    })
+}
+
+/// Copies the vertex positions into `positions`, a caller's buffer of `capacity` doubles:
+/// 3 × vertex_count values, `x0 y0 z0 x1 y1 z1 …`, are written.
+///
+/// Statuses: `KATACHI_STATUS_OK`; `KATACHI_STATUS_NULL_POINTER` (`mesh` NULL, or `positions`
+/// NULL when the mesh has vertices); `KATACHI_STATUS_BUFFER_TOO_SMALL` (`capacity` below
+/// 3 × vertex_count; the message says how many are needed, and nothing is written).
+///
+/// # Safety
+/// `mesh` must be NULL or a live handle; `positions` NULL or `capacity` writable doubles.
+#[no_mangle]
+pub unsafe extern "C" fn katachi_mesh_copy_positions(
+    mesh: *const KatachiMesh,
+    positions: *mut f64,
+    capacity: usize,
+) -> KatachiStatus {
+    guard("katachi_mesh_copy_positions", || {
+        // SAFETY: the caller's promises above.
+        let mesh = unsafe { mesh_ref(mesh) }?;
+        let nv = mesh.vertex_count();
+        let out = unsafe {
+            out_buffer(
+                positions,
+                capacity,
+                3 * nv as usize,
+                "positions",
+                &format_args!("3 doubles for each of {nv} vertices"),
+            )
+        }?;
+        for (dst, p) in out.chunks_exact_mut(3).zip(mesh.positions()) {
+            dst.copy_from_slice(&p.to_array());
+        }
+        Ok(())
+    })
+}
+
+/// Copies the face-loop layout, in the form `katachi_mesh_create` takes, into three caller's
+/// buffers:
+///
+/// - `loop_sizes` (capacity `loop_sizes_capacity`): loop_count values, the corners of each loop;
+/// - `face_loop_counts` (capacity `face_loop_counts_capacity`): face_count values, the loops of
+///   each face (outer loop first, then holes);
+/// - `corners` (capacity `corners_capacity`): corner_count vertex indices, loop after loop.
+///
+/// The counts come from `katachi_mesh_counts`. A buffer whose needed count is 0 may be NULL.
+///
+/// Statuses: `KATACHI_STATUS_OK`; `KATACHI_STATUS_NULL_POINTER` (`mesh` NULL, or a buffer NULL
+/// with a nonzero need); `KATACHI_STATUS_BUFFER_TOO_SMALL` (a capacity below its count; the
+/// message names the buffer and the count). On failure nothing is written.
+///
+/// # Safety
+/// `mesh` must be NULL or a live handle; each buffer NULL or holding its capacity of
+/// writable `uint32_t`s.
+#[no_mangle]
+pub unsafe extern "C" fn katachi_mesh_copy_faces(
+    mesh: *const KatachiMesh,
+    loop_sizes: *mut u32,
+    loop_sizes_capacity: usize,
+    face_loop_counts: *mut u32,
+    face_loop_counts_capacity: usize,
+    corners: *mut u32,
+    corners_capacity: usize,
+) -> KatachiStatus {
+    guard("katachi_mesh_copy_faces", || {
+        // SAFETY: the caller's promises above.
+        let mesh = unsafe { mesh_ref(mesh) }?;
+        let (nl, nf, nc) = (mesh.loop_count(), mesh.face_count(), mesh.corner_count());
+        let loop_sizes = unsafe {
+            out_buffer(
+                loop_sizes,
+                loop_sizes_capacity,
+                nl as usize,
+                "loop_sizes",
+                &format_args!("one per loop; the mesh has {nl} loops"),
+            )
+        }?;
+        let face_loop_counts = unsafe {
+            out_buffer(
+                face_loop_counts,
+                face_loop_counts_capacity,
+                nf as usize,
+                "face_loop_counts",
+                &format_args!("one per face; the mesh has {nf} faces"),
+            )
+        }?;
+        let corners = unsafe {
+            out_buffer(
+                corners,
+                corners_capacity,
+                nc as usize,
+                "corners",
+                &format_args!("one per corner; the mesh has {nc} corners"),
+            )
+        }?;
+        for (dst, w) in loop_sizes.iter_mut().zip(mesh.loop_offsets().windows(2)) {
+            *dst = w[1] - w[0];
+        }
+        for (dst, w) in face_loop_counts
+            .iter_mut()
+            .zip(mesh.face_loop_offsets().windows(2))
+        {
+            *dst = w[1] - w[0];
+        }
+        for (dst, v) in corners.iter_mut().zip(mesh.corners()) {
+            *dst = v.0;
+        }
+        Ok(())
+    })
+}
+
+/// Reads the sharpness of the edge between vertices `a` and `b` (either order) into
+/// `*sharpness`: 0 is smooth, values in (0, 10) are semi-sharp, ≥ 10 infinitely sharp
+/// (OpenSubdiv semantics). A pair of vertices not joined by any edge reads 0.
+///
+/// Statuses: `KATACHI_STATUS_OK`; `KATACHI_STATUS_NULL_POINTER` (`mesh` or `sharpness` NULL);
+/// `KATACHI_STATUS_INVALID_ARGUMENT` (`a` or `b` out of range, or `a == b`). On failure
+/// `*sharpness` is unchanged.
+///
+/// # Safety
+/// `mesh` must be NULL or a live handle; `sharpness` NULL or a writable double.
+#[no_mangle]
+pub unsafe extern "C" fn katachi_mesh_edge_sharpness(
+    mesh: *const KatachiMesh,
+    a: u32,
+    b: u32,
+    sharpness: *mut f64,
+) -> KatachiStatus {
+    guard("katachi_mesh_edge_sharpness", || {
+        // SAFETY: the caller's promises above.
+        let mesh = unsafe { mesh_ref(mesh) }?;
+        let out = unsafe { deref_mut(sharpness, "sharpness") }?;
+        let (a, b) = check_edge(mesh, a, b, ["a", "b"])?;
+        *out = mesh.edge_sharpness(a, b);
+        Ok(())
+    })
+}
+
+/// Sets the sharpness of the edge between vertices `a` and `b` (either order): finite and
+/// ≥ 0; 0 makes it smooth again. The edge must be a side of some face's loop.
+///
+/// Statuses: `KATACHI_STATUS_OK`; `KATACHI_STATUS_NULL_POINTER` (`mesh` NULL);
+/// `KATACHI_STATUS_INVALID_ARGUMENT` (`a` or `b` out of range, or `a == b`);
+/// `KATACHI_STATUS_BAD_INPUT` (no edge joins `a` and `b`, or `sharpness` is negative or not
+/// finite). On failure the mesh is unchanged.
+///
+/// Cost: O(corners) per call; use `katachi_mesh_set_edge_sharpnesses` for many edges.
+///
+/// # Safety
+/// `mesh` must be NULL or a live handle that no other call is using.
+#[no_mangle]
+pub unsafe extern "C" fn katachi_mesh_set_edge_sharpness(
+    mesh: *mut KatachiMesh,
+    a: u32,
+    b: u32,
+    sharpness: f64,
+) -> KatachiStatus {
+    guard("katachi_mesh_set_edge_sharpness", || {
+        // SAFETY: the caller's promise above.
+        let mesh = unsafe { mesh_mut(mesh) }?;
+        let (a, b) = check_edge(mesh, a, b, ["a", "b"])?;
+        mesh.set_edge_sharpness(a, b, sharpness)?;
+        Ok(())
+    })
+}
+
+/// Sets the sharpness of `count` edges at once, all or nothing.
+///
+/// - `edges`: 2 × `count` vertex indices, `a0 b0 a1 b1 …`, each pair an edge of the mesh;
+/// - `sharpness`: `count` values, finite and ≥ 0 (0 makes an edge smooth).
+///
+/// With `count == 0` both arrays may be NULL.
+///
+/// Statuses: `KATACHI_STATUS_OK`; `KATACHI_STATUS_NULL_POINTER` (`mesh` NULL, or an array NULL
+/// with `count > 0`); `KATACHI_STATUS_INVALID_ARGUMENT` (an index out of range or a pair with
+/// twice the same vertex; the message gives its position in `edges`);
+/// `KATACHI_STATUS_BAD_INPUT` (a pair that is no edge, a negative or non-finite value). On
+/// failure the mesh is unchanged.
+///
+/// # Safety
+/// `mesh` must be NULL or a live handle that no other call is using; non-NULL arrays must
+/// hold the counts above.
+#[no_mangle]
+pub unsafe extern "C" fn katachi_mesh_set_edge_sharpnesses(
+    mesh: *mut KatachiMesh,
+    edges: *const u32,
+    sharpness: *const f64,
+    count: usize,
+) -> KatachiStatus {
+    guard("katachi_mesh_set_edge_sharpnesses", || {
+        // SAFETY: the caller's promises above.
+        let mesh = unsafe { mesh_mut(mesh) }?;
+        let n_idx = count
+            .checked_mul(2)
+            .ok_or_else(|| FfiError::invalid(format!("count {count} is too large")))?;
+        let edges = unsafe { slice(edges, n_idx, "edges", &format_args!("count is {count}")) }?;
+        let values = unsafe {
+            slice(
+                sharpness,
+                count,
+                "sharpness",
+                &format_args!("count is {count}"),
+            )
+        }?;
+        let mut batch = Vec::with_capacity(count);
+        for (i, (pair, &s)) in edges.chunks_exact(2).zip(values).enumerate() {
+            let names = [format!("edges[{}]", 2 * i), format!("edges[{}]", 2 * i + 1)];
+            let (a, b) = check_edge(mesh, pair[0], pair[1], [&names[0], &names[1]])?;
+            batch.push((a, b, s));
+        }
+        mesh.set_edge_sharpnesses(batch)?;
+        Ok(())
+    })
+}
+
+/// Copies every edge with sharpness > 0, sorted by (smaller vertex, larger vertex):
+///
+/// - `edges`: 2 × n vertex indices `a0 b0 a1 b1 …` with `a < b`;
+/// - `sharpness`: n values;
+///
+/// where n is `sharp_edge_count` from `katachi_mesh_counts` and `capacity` is the number of
+/// edges both buffers have room for (`edges` holds 2 × `capacity` `uint32_t`s).
+///
+/// Statuses: `KATACHI_STATUS_OK`; `KATACHI_STATUS_NULL_POINTER` (`mesh` NULL, or a buffer NULL
+/// when n > 0); `KATACHI_STATUS_BUFFER_TOO_SMALL` (`capacity` < n; nothing is written).
+///
+/// # Safety
+/// `mesh` must be NULL or a live handle; `edges` NULL or 2 × `capacity` writable `uint32_t`s;
+/// `sharpness` NULL or `capacity` writable doubles.
+#[no_mangle]
+pub unsafe extern "C" fn katachi_mesh_copy_sharp_edges(
+    mesh: *const KatachiMesh,
+    edges: *mut u32,
+    sharpness: *mut f64,
+    capacity: usize,
+) -> KatachiStatus {
+    guard("katachi_mesh_copy_sharp_edges", || {
+        // SAFETY: the caller's promises above.
+        let mesh = unsafe { mesh_ref(mesh) }?;
+        let n = mesh.sharp_edges().len();
+        if capacity < n {
+            return Err(FfiError::new(
+                KatachiStatus::BufferTooSmall,
+                format!("capacity is {capacity} edges, but the mesh has {n} sharp edges"),
+            ));
+        }
+        let what = format_args!("the mesh has {n} sharp edges");
+        let edges = unsafe { out_buffer(edges, 2 * n, 2 * n, "edges", &what) }?;
+        let values = unsafe { out_buffer(sharpness, n, n, "sharpness", &what) }?;
+        for ((pair, value), (a, b, s)) in edges
+            .chunks_exact_mut(2)
+            .zip(values)
+            .zip(mesh.sharp_edges())
+        {
+            pair[0] = a.0;
+            pair[1] = b.0;
+            *value = s;
+        }
+        Ok(())
+    })
+}
+
+/// Reads the sharpness of vertex `vertex` (a corner crease; 0 smooth, ≥ 10 infinitely
+/// sharp) into `*sharpness`.
+///
+/// Statuses: `KATACHI_STATUS_OK`; `KATACHI_STATUS_NULL_POINTER` (`mesh` or `sharpness` NULL);
+/// `KATACHI_STATUS_INVALID_ARGUMENT` (`vertex` out of range). On failure `*sharpness` is
+/// unchanged.
+///
+/// # Safety
+/// `mesh` must be NULL or a live handle; `sharpness` NULL or a writable double.
+#[no_mangle]
+pub unsafe extern "C" fn katachi_mesh_vertex_sharpness(
+    mesh: *const KatachiMesh,
+    vertex: u32,
+    sharpness: *mut f64,
+) -> KatachiStatus {
+    guard("katachi_mesh_vertex_sharpness", || {
+        // SAFETY: the caller's promises above.
+        let mesh = unsafe { mesh_ref(mesh) }?;
+        let out = unsafe { deref_mut(sharpness, "sharpness") }?;
+        let v = check_vertex(mesh, vertex, "vertex")?;
+        *out = mesh.vertex_sharpness()[v.idx()];
+        Ok(())
+    })
+}
+
+/// Sets the sharpness of vertex `vertex`: finite and ≥ 0 (0 smooth, ≥ 10 infinitely sharp).
+///
+/// Statuses: `KATACHI_STATUS_OK`; `KATACHI_STATUS_NULL_POINTER` (`mesh` NULL);
+/// `KATACHI_STATUS_INVALID_ARGUMENT` (`vertex` out of range); `KATACHI_STATUS_BAD_INPUT`
+/// (`sharpness` negative or not finite). On failure the mesh is unchanged.
+///
+/// # Safety
+/// `mesh` must be NULL or a live handle that no other call is using.
+#[no_mangle]
+pub unsafe extern "C" fn katachi_mesh_set_vertex_sharpness(
+    mesh: *mut KatachiMesh,
+    vertex: u32,
+    sharpness: f64,
+) -> KatachiStatus {
+    guard("katachi_mesh_set_vertex_sharpness", || {
+        // SAFETY: the caller's promise above.
+        let mesh = unsafe { mesh_mut(mesh) }?;
+        let v = check_vertex(mesh, vertex, "vertex")?;
+        mesh.set_vertex_sharpness(v, sharpness)?;
+        Ok(())
+    })
+}
+
+/// Copies the sharpness of every vertex (vertex_count doubles) into `sharpness`, a caller's
+/// buffer of `capacity` doubles.
+///
+/// Statuses: `KATACHI_STATUS_OK`; `KATACHI_STATUS_NULL_POINTER` (`mesh` NULL, or `sharpness`
+/// NULL when the mesh has vertices); `KATACHI_STATUS_BUFFER_TOO_SMALL` (`capacity` below
+/// vertex_count; nothing is written).
+///
+/// # Safety
+/// `mesh` must be NULL or a live handle; `sharpness` NULL or `capacity` writable doubles.
+#[no_mangle]
+pub unsafe extern "C" fn katachi_mesh_copy_vertex_sharpness(
+    mesh: *const KatachiMesh,
+    sharpness: *mut f64,
+    capacity: usize,
+) -> KatachiStatus {
+    guard("katachi_mesh_copy_vertex_sharpness", || {
+        // SAFETY: the caller's promises above.
+        let mesh = unsafe { mesh_ref(mesh) }?;
+        let values = mesh.vertex_sharpness();
+        let out = unsafe {
+            out_buffer(
+                sharpness,
+                capacity,
+                values.len(),
+                "sharpness",
+                &format_args!("one per vertex; the mesh has {} vertices", values.len()),
+            )
+        }?;
+        out.copy_from_slice(values);
+        Ok(())
+    })
+}
+
+/// Replaces the sharpness of every vertex, all or nothing: `sharpness` holds `count` values,
+/// one per vertex, each finite and ≥ 0; `count` must equal the mesh's vertex count.
+///
+/// Statuses: `KATACHI_STATUS_OK`; `KATACHI_STATUS_NULL_POINTER` (`mesh` NULL, or `sharpness`
+/// NULL with `count > 0`); `KATACHI_STATUS_INVALID_ARGUMENT` (`count` is not the vertex count);
+/// `KATACHI_STATUS_BAD_INPUT` (a negative or non-finite value; the message names the vertex).
+/// On failure the mesh is unchanged.
+///
+/// # Safety
+/// `mesh` must be NULL or a live handle that no other call is using; a non-NULL `sharpness`
+/// must hold `count` doubles.
+#[no_mangle]
+pub unsafe extern "C" fn katachi_mesh_set_all_vertex_sharpness(
+    mesh: *mut KatachiMesh,
+    sharpness: *const f64,
+    count: usize,
+) -> KatachiStatus {
+    guard("katachi_mesh_set_all_vertex_sharpness", || {
+        // SAFETY: the caller's promises above.
+        let mesh = unsafe { mesh_mut(mesh) }?;
+        let nv = mesh.vertex_count() as usize;
+        if count != nv {
+            return Err(FfiError::invalid(format!(
+                "count is {count}, but the mesh has {nv} vertices (one value per vertex)"
+            )));
+        }
+        let values = unsafe {
+            slice(
+                sharpness,
+                count,
+                "sharpness",
+                &format_args!("count is {count}"),
+            )
+        }?;
+        mesh.set_all_vertex_sharpness(values.to_vec())?;
+        Ok(())
+    })
+}

@@ -20,6 +20,7 @@ pub mod error;
 pub mod ffi;
 pub mod io;
 pub mod mesh;
+pub mod subdivide;
 
 pub use error::{Error, ErrorKind, Result};
 pub use glam::DVec3;

@@ -50,7 +50,11 @@ fn info_reports_counts() {
 fn convert_round_trips() {
     let d = tmp("convert");
     let ply = d.join("c.ply");
-    let o = katachi(&["convert", &example("chamfer-cube.off"), ply.to_str().unwrap()]);
+    let o = katachi(&[
+        "convert",
+        &example("chamfer-cube.off"),
+        ply.to_str().unwrap(),
+    ]);
     assert!(o.status.success(), "{}", stderr(&o));
     let back = d.join("c.off");
     let o = katachi(&["convert", ply.to_str().unwrap(), back.to_str().unwrap()]);
@@ -66,7 +70,12 @@ fn demo_writes_results() {
     let d = tmp("demo");
     let o = katachi(&["demo", "--out", d.to_str().unwrap()]);
     assert!(o.status.success(), "{}", stderr(&o));
-    for f in ["fandisk_quads.ply", "chamfer-cube.obj", "cube_creased.obj", "torus_24x12.info.txt"] {
+    for f in [
+        "fandisk_quads.ply",
+        "chamfer-cube.obj",
+        "cube_creased.obj",
+        "torus_24x12.info.txt",
+    ] {
         assert!(d.join(f).is_file(), "demo did not write {f}");
     }
     // The creased cube keeps its sharpness through OBJ tags.
@@ -79,8 +88,16 @@ fn bad_input_is_one_line_and_status_2() {
     let d = tmp("bad");
     let cases: Vec<(PathBuf, &str, &str)> = vec![
         (d.join("missing.obj"), "", "missing.obj"),
-        (d.join("bad.off"), "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n", "bad.off:6"),
-        (d.join("nan.obj"), "v 0 0 0\nv 1 nan 0\nv 0 1 0\nf 1 2 3\n", "nan.obj"),
+        (
+            d.join("bad.off"),
+            "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n",
+            "bad.off:6",
+        ),
+        (
+            d.join("nan.obj"),
+            "v 0 0 0\nv 1 nan 0\nv 0 1 0\nf 1 2 3\n",
+            "nan.obj",
+        ),
         (d.join("x.stl"), "solid\n", "unknown file format"),
     ];
     for (path, content, expect) in cases {

@@ -133,34 +133,7 @@ fn manifest() -> Vec<Row> {
 /// Where `inspect` and the manifest count differently. Each entry is checked to still
 /// hold, so a fix to `inspect` fails this test and asks for the entry to be removed.
 /// (file, quantity, manifest's value, inspect's value, why)
-const INSPECT_DISAGREES: &[(&str, &str, u32, u32, &str)] = &[
-    (
-        "teapot.obj",
-        "boundary loops",
-        10,
-        25,
-        "the manifest counts connected boundary curves (boundary edges joined at shared \
-         vertices); inspect counts half-edge cycles, which split at the 38 non-manifold \
-         vertices. The boundary-edge graph is checked against the manifest below.",
-    ),
-    (
-        "degenerated.obj",
-        "components",
-        1,
-        12,
-        "the tolerant topology splits each non-manifold edge into separate edges, so the 12 \
-         double-sided triangles that share them fall apart into 12 components; joined by \
-         shared edges they are one (checked below).",
-    ),
-    (
-        "degenerated.obj",
-        "non-manifold vertices",
-        0,
-        7,
-        "the manifest joins a vertex's faces across any shared edge (one fan); inspect's \
-         fans stop at the split non-manifold edges, so every vertex looks non-manifold.",
-    ),
-];
+const INSPECT_DISAGREES: &[(&str, &str, u32, u32, &str)] = &[];
 
 fn check(file: &str, quantity: &str, manifest: u32, inspect: u32, errors: &mut Vec<String>) {
     let known = INSPECT_DISAGREES

@@ -27,7 +27,9 @@ pub struct MeshReport {
     pub edges: u32,
     /// Edges with a face on one side only.
     pub boundary_edges: u32,
-    /// Boundary loops (holes of the surface).
+    /// Boundary curves: connected components of the boundary edges, joined at shared
+    /// vertices. Equals the number of boundary half-edge cycles on a manifold mesh; where
+    /// two boundary cycles touch at a non-manifold vertex they count as one curve.
     pub boundary_loops: u32,
     /// Connected components of faces.
     pub components: u32,
@@ -90,7 +92,7 @@ pub fn inspect(mesh: &PolyMesh) -> Result<MeshReport> {
         faces_with_holes,
         edges: topo.edge_count(),
         boundary_edges,
-        boundary_loops: topo.boundary_loops().len() as u32,
+        boundary_loops: boundary_curves(&topo),
         components,
         defects,
         coincident_vertices: coincident_vertices(mesh.positions()),
@@ -101,6 +103,32 @@ pub fn inspect(mesh: &PolyMesh) -> Result<MeshReport> {
         sharp_edges: mesh.sharp_edges().len() as u32,
         sharp_vertices: mesh.vertex_sharpness().iter().filter(|&&s| s > 0.0).count() as u32,
     })
+}
+
+fn boundary_curves(topo: &Topology) -> u32 {
+    let n = topo.vertex_count() as usize;
+    let mut parent: Vec<u32> = (0..n as u32).collect();
+    let mut on_boundary = vec![false; n];
+    fn root(p: &mut [u32], mut x: u32) -> u32 {
+        while p[x as usize] != x {
+            p[x as usize] = p[p[x as usize] as usize];
+            x = p[x as usize];
+        }
+        x
+    }
+    for e in 0..topo.edge_count() {
+        let e = super::EdgeId(e);
+        if topo.is_boundary_edge(e) {
+            let [a, b] = topo.edge_vertices(e);
+            on_boundary[a.idx()] = true;
+            on_boundary[b.idx()] = true;
+            let (ra, rb) = (root(&mut parent, a.0), root(&mut parent, b.0));
+            parent[ra.max(rb) as usize] = ra.min(rb);
+        }
+    }
+    (0..n as u32)
+        .filter(|&v| on_boundary[v as usize] && root(&mut parent, v) == v)
+        .count() as u32
 }
 
 fn coincident_vertices(positions: &[DVec3]) -> u32 {

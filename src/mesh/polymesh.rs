@@ -159,6 +159,31 @@ impl PolyMesh {
         })
     }
 
+    /// Assembles arrays a kernel operation built and knows to be valid (checked in debug builds).
+    pub(crate) fn from_parts_unchecked(
+        positions: Vec<DVec3>,
+        face_loop_offsets: Vec<u32>,
+        loop_offsets: Vec<u32>,
+        corners: Vec<VertexId>,
+    ) -> Self {
+        debug_assert!(validate::positions(&positions).is_ok());
+        debug_assert!(validate::faces(
+            positions.len(),
+            &face_loop_offsets,
+            &loop_offsets,
+            &corners
+        )
+        .is_ok());
+        let attributes = Attributes::new(positions.len(), face_loop_offsets.len() - 1);
+        PolyMesh {
+            positions,
+            face_loop_offsets,
+            loop_offsets,
+            corners,
+            attributes,
+        }
+    }
+
     /// Number of vertices, referenced or not.
     pub fn vertex_count(&self) -> u32 {
         self.positions.len() as u32

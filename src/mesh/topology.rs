@@ -177,7 +177,6 @@ impl Topology {
             }
             to.push(a);
         }
-        drop(head);
         let nh = to.len();
 
         // Faces, loops, next and prev of face half-edges.
@@ -240,7 +239,12 @@ impl Topology {
         };
         for v in 0..nv as u32 {
             let v = VertexId(v);
-            if out_degree[v.idx()] > 0 && topo.outgoing(v).count() as u32 != out_degree[v.idx()] {
+            // Fast test: one fan visits every half-edge leaving v. Only where it fails, the
+            // precise test joins v's faces across any shared edge (non-manifold ones included).
+            if out_degree[v.idx()] > 0
+                && topo.outgoing(v).count() as u32 != out_degree[v.idx()]
+                && fans_at(v, leaving(v), corners, &head, loop_offsets) > 1
+            {
                 topo.defects.non_manifold_vertices.push(v);
             }
         }
@@ -423,6 +427,30 @@ impl Topology {
                 }
             }
         }
+        // Tolerated defects split an edge into several with the same end vertices: join those.
+        if !self.defects.non_manifold_edges.is_empty()
+            || !self.defects.inconsistent_edges.is_empty()
+        {
+            let mut keyed: Vec<((u32, u32), u32)> = (0..self.to.len() / 2)
+                .flat_map(|e| {
+                    let (a, b) = (self.to[2 * e].0, self.to[2 * e + 1].0);
+                    let key = (a.min(b), a.max(b));
+                    [self.face[2 * e], self.face[2 * e + 1]]
+                        .into_iter()
+                        .filter(|f| f.is_valid())
+                        .map(move |f| (key, f.0))
+                })
+                .collect();
+            keyed.sort_unstable();
+            for w in keyed.windows(2) {
+                if w[0].0 == w[1].0 {
+                    let (rf, rg) = (root(&mut parent, w[0].1), root(&mut parent, w[1].1));
+                    if rf != rg {
+                        parent[rf.max(rg) as usize] = rf.min(rg);
+                    }
+                }
+            }
+        }
         let mut label = vec![u32::MAX; nf];
         let mut comp = vec![0u32; nf];
         let mut count = 0;
@@ -452,6 +480,51 @@ impl Topology {
             .sum();
         self.referenced_vertex_count() as i64 - self.edge_count() as i64 + faces
     }
+}
+
+/// Number of fans of faces at `v`: the corners at `v`, joined when their faces share an edge
+/// at `v` (the same neighbour vertex), however many faces that edge has.
+fn fans_at(
+    v: VertexId,
+    at_v: &[u32],
+    corners: &[VertexId],
+    head: &[VertexId],
+    loop_offsets: &[u32],
+) -> u32 {
+    let prev_vertex = |k: u32| {
+        let l = loop_offsets.partition_point(|&o| o <= k) - 1;
+        let first = loop_offsets[l];
+        let kp = if k == first {
+            loop_offsets[l + 1] - 1
+        } else {
+            k - 1
+        };
+        corners[kp as usize]
+    };
+    let ends: Vec<[VertexId; 2]> = at_v
+        .iter()
+        .map(|&k| [head[k as usize], prev_vertex(k)])
+        .collect();
+    debug_assert!(at_v.iter().all(|&k| corners[k as usize] == v));
+    let mut group: Vec<usize> = (0..ends.len()).collect();
+    fn root(g: &mut [usize], mut x: usize) -> usize {
+        while g[x] != x {
+            g[x] = g[g[x]];
+            x = g[x];
+        }
+        x
+    }
+    for i in 0..ends.len() {
+        for j in i + 1..ends.len() {
+            if ends[i].iter().any(|x| ends[j].contains(x)) {
+                let (a, b) = (root(&mut group, i), root(&mut group, j));
+                group[a.max(b)] = a.min(b);
+            }
+        }
+    }
+    (0..ends.len())
+        .filter(|&i| root(&mut group, i) == i)
+        .count() as u32
 }
 
 /// A cursor on one half-edge; each step returns a new cursor.

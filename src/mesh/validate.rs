@@ -88,17 +88,31 @@ fn check_loop(
             });
         }
     }
-    scratch.clear();
-    scratch.extend(lp.iter().map(|v| v.0));
-    scratch.sort_unstable();
-    let mut distinct = scratch.len() as u32;
-    let mut repeated = None;
-    for w in scratch.windows(2) {
-        if w[0] == w[1] {
-            distinct -= 1;
-            repeated.get_or_insert(w[0]);
+    let (distinct, repeated) = if lp.len() <= 8 {
+        // Small loops (nearly all of them): pairwise, no sorting.
+        let mut distinct = lp.len() as u32;
+        let mut repeated = None;
+        for i in 1..lp.len() {
+            if lp[..i].contains(&lp[i]) {
+                distinct -= 1;
+                repeated.get_or_insert(lp[i].0);
+            }
         }
-    }
+        (distinct, repeated)
+    } else {
+        scratch.clear();
+        scratch.extend(lp.iter().map(|v| v.0));
+        scratch.sort_unstable();
+        let mut distinct = scratch.len() as u32;
+        let mut repeated = None;
+        for w in scratch.windows(2) {
+            if w[0] == w[1] {
+                distinct -= 1;
+                repeated.get_or_insert(w[0]);
+            }
+        }
+        (distinct, repeated)
+    };
     if distinct < 3 {
         return Err(Error::DegenerateLoop {
             face,

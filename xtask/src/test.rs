@@ -13,7 +13,9 @@ pub fn run(args: &[&str]) -> Result<(), String> {
     let mut steps: Vec<(&str, Step)> = vec![
         (
             "format",
-            Box::new(|| util::run(Command::new(util::cargo()).args(["fmt", "--all", "--", "--check"]))),
+            Box::new(|| {
+                util::run(Command::new(util::cargo()).args(["fmt", "--all", "--", "--check"]))
+            }),
         ),
         (
             "clippy",

@@ -1,0 +1,253 @@
+//! One level of a subdivision hierarchy, in flat face–edge arrays (the layout of OpenSubdiv's
+//! Vtr levels): faces → loops → corners, each corner knowing its vertex and the edge to the
+//! next corner, each edge its two vertices and sharpness. Positions are computed by scatter
+//! passes over these arrays (see `refine.rs`), so no vertex ring is ever walked.
+//!
+//! Numbering follows OpenSubdiv's uniform refinement (default options), so that outputs can
+//! be compared index by index: edges are numbered by first use in corner order.
+
+use super::crease::INFINITE;
+use super::options::{BoundaryInterpolation, SubdivideOptions};
+use crate::error::Result;
+use crate::mesh::PolyMesh;
+
+#[derive(Debug, Clone, Default)]
+pub(crate) struct Level {
+    pub vertex_count: u32,
+    /// F + 1 offsets into `loop_offsets`.
+    pub face_loops: Vec<u32>,
+    /// L + 1 offsets into the corner arrays.
+    pub loop_offsets: Vec<u32>,
+    pub corner_verts: Vec<u32>,
+    /// The edge from each corner to the next corner of its loop.
+    pub corner_edges: Vec<u32>,
+    pub edge_verts: Vec<[u32; 2]>,
+    /// User sharpness, or [`INFINITE`] where `edge_forced` is set.
+    pub edge_sharpness: Vec<f32>,
+    /// Sharp because of topology (boundary, non-manifold), not because the user said so.
+    pub edge_forced: Vec<bool>,
+    pub vertex_sharpness: Vec<f32>,
+    /// Pinned because of topology (boundary corner, non-manifold vertex).
+    pub vertex_forced: Vec<bool>,
+    /// Faces kept whole (faces with holes under method [b]): not split, loops refined.
+    pub face_kept: Vec<bool>,
+    /// Input face each face descends from.
+    pub face_origin: Vec<u32>,
+}
+
+impl Level {
+    pub fn face_count(&self) -> u32 {
+        (self.face_loops.len() - 1) as u32
+    }
+    pub fn edge_count(&self) -> u32 {
+        self.edge_verts.len() as u32
+    }
+
+    /// The corners of face `f` when it has a single loop.
+    #[inline]
+    pub fn face_corners(&self, f: usize) -> std::ops::Range<usize> {
+        let l = self.face_loops[f] as usize;
+        self.loop_offsets[l] as usize..self.loop_offsets[l + 1] as usize
+    }
+
+    /// Level 0 from a validated mesh. `keep_face` says which faces are kept whole (their
+    /// loop edges become infinitely sharp, seed 001 §3.2 method [b]).
+    pub fn from_mesh(
+        mesh: &PolyMesh,
+        options: &SubdivideOptions,
+        keep_face: &dyn Fn(u32) -> bool,
+    ) -> Result<Level> {
+        let nv = mesh.vertex_count() as usize;
+        let corners: Vec<u32> = mesh.corners().iter().map(|v| v.0).collect();
+        let loop_offsets = mesh.loop_offsets().to_vec();
+        let n = corners.len();
+        // Next vertex of each corner in its loop.
+        let mut head = vec![0u32; n];
+        for w in loop_offsets.windows(2) {
+            let (a, b) = (w[0] as usize, w[1] as usize);
+            head[a..b - 1].copy_from_slice(&corners[a + 1..b]);
+            head[b - 1] = corners[a];
+        }
+        // Corners bucketed by vertex (counting sort).
+        let mut start = vec![0u32; nv + 1];
+        for &v in &corners {
+            start[v as usize + 1] += 1;
+        }
+        for i in 0..nv {
+            start[i + 1] += start[i];
+        }
+        let mut fill = start.clone();
+        let mut at = vec![0u32; n];
+        for (k, &v) in corners.iter().enumerate() {
+            at[fill[v as usize] as usize] = k as u32;
+            fill[v as usize] += 1;
+        }
+        let bucket = |v: u32| &at[start[v as usize] as usize..start[v as usize + 1] as usize];
+
+        // Edges by first use in corner order; count the face sides of each.
+        let mut corner_edges = vec![u32::MAX; n];
+        let mut edge_verts = Vec::with_capacity(n / 2 + 8);
+        let mut edge_forced = Vec::with_capacity(n / 2 + 8);
+        for k in 0..n {
+            if corner_edges[k] != u32::MAX {
+                continue;
+            }
+            let (a, b) = (corners[k], head[k]);
+            let e = edge_verts.len() as u32;
+            let mut sides = 0u32;
+            let mut same_direction = 0u32;
+            for &j in bucket(a) {
+                if head[j as usize] == b {
+                    corner_edges[j as usize] = e;
+                    sides += 1;
+                    same_direction += 1;
+                }
+            }
+            for &j in bucket(b) {
+                if head[j as usize] == a {
+                    corner_edges[j as usize] = e;
+                    sides += 1;
+                }
+            }
+            edge_verts.push([a, b]);
+            // Boundary, non-manifold, or traversed twice the same way: infinitely sharp
+            // (OpenSubdiv's treatment; spec §4.1, §4.2).
+            edge_forced.push(sides != 2 || same_direction != 1);
+        }
+        let ne = edge_verts.len();
+        let mut edge_sharpness: Vec<f32> = edge_forced
+            .iter()
+            .map(|&f| if f { INFINITE } else { 0.0 })
+            .collect();
+        let find_edge = |a: u32, b: u32| -> Option<u32> {
+            bucket(a)
+                .iter()
+                .find(|&&j| head[j as usize] == b)
+                .or_else(|| bucket(b).iter().find(|&&j| head[j as usize] == a))
+                .map(|&j| corner_edges[j as usize])
+        };
+        for (a, b, s) in mesh.sharp_edges() {
+            if let Some(e) = find_edge(a.0, b.0) {
+                let e = e as usize;
+                if !edge_forced[e] {
+                    edge_sharpness[e] = (s as f32).min(INFINITE);
+                }
+            }
+        }
+
+        // Faces kept whole: their loop edges become infinitely sharp.
+        let face_count = mesh.face_count() as usize;
+        let face_loops = mesh.face_loop_offsets().to_vec();
+        let mut face_kept = vec![false; face_count];
+        for f in 0..face_count {
+            if keep_face(f as u32) {
+                face_kept[f] = true;
+                let (l0, l1) = (face_loops[f] as usize, face_loops[f + 1] as usize);
+                for c in loop_offsets[l0] as usize..loop_offsets[l1] as usize {
+                    edge_sharpness[corner_edges[c] as usize] = INFINITE;
+                }
+            }
+        }
+
+        // Vertices: user sharpness; pinned where the topology says corner.
+        let mut vertex_sharpness: Vec<f32> = mesh
+            .vertex_sharpness()
+            .iter()
+            .map(|&s| (s as f32).min(INFINITE))
+            .collect();
+        let mut vertex_forced = vec![false; nv];
+        if options.boundary == BoundaryInterpolation::EdgeAndCorner {
+            // A boundary vertex with a single face is a corner.
+            for v in 0..nv as u32 {
+                let b = bucket(v);
+                if b.len() == 1 && edge_forced[corner_edges[b[0] as usize] as usize] {
+                    vertex_forced[v as usize] = true;
+                }
+            }
+        }
+        let mut tail = vec![0u32; n];
+        for w in loop_offsets.windows(2) {
+            let (a, b) = (w[0] as usize, w[1] as usize);
+            tail[a + 1..b].copy_from_slice(&corners[a..b - 1]);
+            tail[a] = corners[b - 1];
+        }
+        for v in 0..nv {
+            let b = &at[start[v] as usize..start[v + 1] as usize];
+            if !single_fan(b, &head, &tail) {
+                vertex_forced[v] = true;
+            }
+        }
+        for v in 0..nv {
+            if vertex_forced[v] {
+                vertex_sharpness[v] = INFINITE;
+            }
+        }
+        debug_assert_eq!(edge_sharpness.len(), ne);
+        Ok(Level {
+            vertex_count: nv as u32,
+            face_loops,
+            loop_offsets,
+            corner_verts: corners,
+            corner_edges,
+            edge_verts,
+            edge_sharpness,
+            edge_forced,
+            vertex_sharpness,
+            vertex_forced,
+            face_kept,
+            face_origin: (0..face_count as u32).collect(),
+        })
+    }
+}
+
+/// Whether the corners at one vertex (`at_v`, with next and previous vertices `head`,
+/// `tail`) form one fan. Fast path: the chain "next vertex of one corner = previous vertex
+/// of the next corner" visits every corner. Otherwise (two fans touching, or non-manifold
+/// edges) faces are grouped across any shared edge at the vertex, and one group is one fan,
+/// as `Topology` defines a non-manifold vertex.
+fn single_fan(at_v: &[u32], head: &[u32], tail: &[u32]) -> bool {
+    let d = at_v.len();
+    if d <= 1 {
+        return true;
+    }
+    let succ = |k: u32| {
+        at_v.iter()
+            .copied()
+            .find(|&j| tail[j as usize] == head[k as usize])
+    };
+    let start = at_v
+        .iter()
+        .copied()
+        .find(|&k| !at_v.iter().any(|&j| head[j as usize] == tail[k as usize]))
+        .unwrap_or(at_v[0]);
+    let (mut cur, mut visited) = (start, 1);
+    while let Some(j) = succ(cur) {
+        if j == start || visited > d {
+            break;
+        }
+        cur = j;
+        visited += 1;
+    }
+    if visited == d {
+        return true;
+    }
+    let mut group: Vec<usize> = (0..d).collect();
+    fn root(g: &mut [usize], mut x: usize) -> usize {
+        while g[x] != x {
+            g[x] = g[g[x]];
+            x = g[x];
+        }
+        x
+    }
+    for i in 0..d {
+        for j in i + 1..d {
+            let (ki, kj) = (at_v[i] as usize, at_v[j] as usize);
+            let ends_i = [head[ki], tail[ki]];
+            if ends_i.contains(&head[kj]) || ends_i.contains(&tail[kj]) {
+                let (a, b) = (root(&mut group, i), root(&mut group, j));
+                group[a.max(b)] = a.min(b);
+            }
+        }
+    }
+    (0..d).filter(|&i| root(&mut group, i) == i).count() == 1
+}

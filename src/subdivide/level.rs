@@ -33,6 +33,8 @@ pub(crate) struct Level {
     pub face_kept: Vec<bool>,
     /// Input face each face descends from.
     pub face_origin: Vec<u32>,
+    /// In a last level (built without edges): the edges that are still creased.
+    pub last_creases: Vec<([u32; 2], f32)>,
 }
 
 impl Level {
@@ -196,6 +198,7 @@ impl Level {
             vertex_forced,
             face_kept,
             face_origin: (0..face_count as u32).collect(),
+            last_creases: Vec::new(),
         })
     }
 }

@@ -10,9 +10,12 @@
 //! none at all with faces with holes; OpenSubdiv is the reference it is tested against.
 
 mod crease;
+pub mod features;
+pub mod holes;
 mod level;
 mod options;
 mod refine;
+pub mod regions;
 
 use std::collections::BTreeMap;
 
@@ -66,8 +69,9 @@ pub fn catmull_clark(mesh: &PolyMesh, options: &SubdivideOptions) -> Result<Subd
     }
     let mut level = Level::from_mesh(mesh, options, &keep)?;
     let mut pos = mesh.positions().to_vec();
-    for _ in 0..options.levels {
-        let (child, child_pos) = refine::refine(&level, &pos, options.crease_method, None);
+    for l in 0..options.levels {
+        let last = l + 1 == options.levels;
+        let (child, child_pos) = refine::refine(&level, &pos, options.crease_method, None, last);
         level = child;
         pos = child_pos;
     }
@@ -81,13 +85,11 @@ pub fn catmull_clark(mesh: &PolyMesh, options: &SubdivideOptions) -> Result<Subd
 
 /// The last level as a [`PolyMesh`], keeping the user's remaining sharpness.
 fn to_mesh(level: Level, pos: Vec<DVec3>) -> PolyMesh {
-    let mut edge_sharpness = BTreeMap::new();
-    for (e, &[a, b]) in level.edge_verts.iter().enumerate() {
-        let s = level.edge_sharpness[e];
-        if s > 0.0 && !level.edge_forced[e] {
-            edge_sharpness.insert((a.min(b), a.max(b)), s as f64);
-        }
-    }
+    let edge_sharpness: BTreeMap<(u32, u32), f64> = level
+        .last_creases
+        .iter()
+        .map(|&([a, b], s)| ((a.min(b), a.max(b)), s as f64))
+        .collect();
     let vertex_sharpness = level
         .vertex_sharpness
         .iter()

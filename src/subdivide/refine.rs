@@ -24,15 +24,18 @@ use super::options::CreaseMethod;
 /// §3.1: the average of the two bridge ends on each loop).
 pub(crate) type FacePointOverride<'a> = &'a dyn Fn(usize) -> Option<DVec3>;
 
+/// Per-vertex sums for the smooth rule, eq. (2): Σ e_j + Σ f_j and the counts.
 #[derive(Clone, Copy, Default)]
-struct VertexSums {
-    /// Σ far ends of incident edges, and their count (eq. (2): Σ e_j, n).
-    edge_sum: DVec3,
+struct SmoothSums {
+    sum: DVec3,
     edges: u32,
-    /// Σ face points of incident faces, and their count (eq. (2): Σ f_j).
-    face_sum: DVec3,
     faces: u32,
-    /// Far ends of sharp edges in the parent, and of edges whose child is sharp.
+}
+
+/// Per-vertex sums for the crease and corner rules (only where the level has sharpness).
+#[derive(Clone, Copy, Default)]
+struct SharpSums {
+    /// Far ends of the sharp edges in the parent, and of the edges whose child is sharp.
     sharp_sum: DVec3,
     sharp: u32,
     child_sharp_sum: DVec3,
@@ -40,59 +43,68 @@ struct VertexSums {
     transitions: Transitions,
 }
 
-/// Refines `parent` once. Returns the child level and its positions.
+/// Weight of a face point in an edge point: ¼ for a smooth edge (eq. (1)), 0 for a sharp
+/// one (midpoint), (1 − s)·¼ for a semi-sharp edge whose child is not a crease.
+#[inline]
+fn face_weight(s: f32, child: [f32; 2]) -> f64 {
+    if !crease::is_sharp(s) {
+        0.25
+    } else if crease::is_sharp(child[0]) && crease::is_sharp(child[1]) {
+        0.0
+    } else {
+        (1.0 - s as f64) * 0.25
+    }
+}
+
+/// Refines `parent` once. Returns the child level and its positions. For the last level
+/// (`last`), the child's edges are not built: only faces and the remaining creases.
 pub(crate) fn refine(
     parent: &Level,
     pos: &[DVec3],
     method: CreaseMethod,
     face_point: Option<FacePointOverride>,
+    last: bool,
 ) -> (Level, Vec<DVec3>) {
     let nv = parent.vertex_count as usize;
     let nf = parent.face_count() as usize;
     let ne = parent.edge_count() as usize;
 
-    // Face points (§2.1: vertex average), for the faces that are split.
     let mut face_child = vec![u32::MAX; nf];
-    let mut face_points = Vec::with_capacity(nf);
+    let mut refined = 0usize;
     let mut interior_edges = 0usize;
     for f in 0..nf {
-        if parent.face_kept[f] {
+        if !parent.face_kept[f] {
+            face_child[f] = refined as u32;
+            refined += 1;
+            interior_edges += parent.face_corners(f).len();
+        }
+    }
+    let (f0, e0) = (nv, nv + refined);
+    let mut child_pos = vec![DVec3::ZERO; nv + refined + ne];
+
+    // Face points (§2.1: vertex average), for the faces that are split.
+    for f in 0..nf {
+        let fc = face_child[f];
+        if fc == u32::MAX {
             continue;
         }
-        face_child[f] = face_points.len() as u32;
         let cs = parent.face_corners(f);
-        interior_edges += cs.len();
-        let p = face_point.and_then(|o| o(f)).unwrap_or_else(|| {
+        child_pos[f0 + fc as usize] = face_point.and_then(|o| o(f)).unwrap_or_else(|| {
             let sum: DVec3 = cs
                 .clone()
                 .map(|c| pos[parent.corner_verts[c] as usize])
                 .sum();
             sum / cs.len() as f64
         });
-        face_points.push(p);
     }
-    let nfp = face_points.len();
 
-    // Scatter face points to vertices and edges.
-    let mut vs = vec![VertexSums::default(); nv];
-    let mut edge_face_sum = vec![DVec3::ZERO; ne];
-    for f in 0..nf {
-        let fc = face_child[f];
-        if fc == u32::MAX {
-            continue;
-        }
-        let fp = face_points[fc as usize];
-        for c in parent.face_corners(f) {
-            let v = &mut vs[parent.corner_verts[c] as usize];
-            v.face_sum += fp;
-            v.faces += 1;
-            edge_face_sum[parent.corner_edges[c] as usize] += fp;
-        }
-    }
+    let any_sharp = parent.edge_sharpness.iter().any(|&s| crease::is_sharp(s))
+        || parent.vertex_sharpness.iter().any(|&s| crease::is_sharp(s));
 
     // Chaikin needs, at each vertex, the sum and count of its semi-sharp edges.
-    let mut semi = vec![SemiSharpAtVertex::default(); nv];
-    if method == CreaseMethod::Chaikin {
+    let mut semi = Vec::new();
+    if any_sharp && method == CreaseMethod::Chaikin {
+        semi = vec![SemiSharpAtVertex::default(); nv];
         for (e, &[a, b]) in parent.edge_verts.iter().enumerate() {
             let s = parent.edge_sharpness[e];
             if crease::is_semi_sharp(s) {
@@ -104,83 +116,115 @@ pub(crate) fn refine(
         }
     }
 
-    // Edges: child sharpness, per-vertex sums, edge points (eq. (1), midpoint, or the blend).
+    // Edges: child sharpness, per-vertex sums, and the vertex part of the edge points.
+    let mut smooth = vec![SmoothSums::default(); nv];
+    let mut sharp = if any_sharp {
+        vec![SharpSums::default(); nv]
+    } else {
+        Vec::new()
+    };
     let mut child_sharpness = vec![[0f32; 2]; ne];
-    let mut edge_points = Vec::with_capacity(ne);
     for (e, &[a, b]) in parent.edge_verts.iter().enumerate() {
-        let s = parent.edge_sharpness[e];
         let (pa, pb) = (pos[a as usize], pos[b as usize]);
+        for (v, far) in [(a, pb), (b, pa)] {
+            let t = &mut smooth[v as usize];
+            t.sum += far;
+            t.edges += 1;
+        }
+        let s = parent.edge_sharpness[e];
+        if !crease::is_sharp(s) {
+            child_pos[e0 + e] = 0.25 * (pa + pb);
+            continue;
+        }
+        let at = |v: u32| semi.get(v as usize).copied().unwrap_or_default();
         let c = [
-            crease::child_sharpness(method, s, semi[a as usize]),
-            crease::child_sharpness(method, s, semi[b as usize]),
+            crease::child_sharpness(method, s, at(a)),
+            crease::child_sharpness(method, s, at(b)),
         ];
         child_sharpness[e] = c;
         for (end, (v, far)) in [(a, pb), (b, pa)].into_iter().enumerate() {
-            let t = &mut vs[v as usize];
-            t.edge_sum += far;
-            t.edges += 1;
-            if crease::is_sharp(s) {
-                t.sharp_sum += far;
-                t.sharp += 1;
-            }
+            let t = &mut sharp[v as usize];
+            t.sharp_sum += far;
+            t.sharp += 1;
             if crease::is_sharp(c[end]) {
                 t.child_sharp_sum += far;
                 t.child_sharp += 1;
             }
             t.transitions.add_edge(method, s, c[end]);
         }
-        let mid = 0.5 * (pa + pb);
-        let p = if !crease::is_sharp(s) {
-            0.25 * (pa + pb + edge_face_sum[e])
-        } else if crease::is_sharp(c[0]) && crease::is_sharp(c[1]) {
-            mid
+        // Midpoint, or the blend of smooth and sharp masks by the sharpness (the face part
+        // is added below).
+        let vertex_weight = if face_weight(s, c) == 0.0 {
+            0.5
         } else {
-            // The child is not a crease: blend the smooth and sharp masks by the sharpness.
-            let w = s as f64;
-            let smooth = 0.25 * (pa + pb + edge_face_sum[e]);
-            w * mid + (1.0 - w) * smooth
+            let sw = s as f64;
+            sw * 0.5 + (1.0 - sw) * 0.25
         };
-        edge_points.push(p);
+        child_pos[e0 + e] = vertex_weight * (pa + pb);
+    }
+
+    // Scatter face points to vertices (eq. (2)) and edges (eq. (1)).
+    for f in 0..nf {
+        let fc = face_child[f];
+        if fc == u32::MAX {
+            continue;
+        }
+        let fp = child_pos[f0 + fc as usize];
+        for c in parent.face_corners(f) {
+            let t = &mut smooth[parent.corner_verts[c] as usize];
+            t.sum += fp;
+            t.faces += 1;
+            let e = parent.corner_edges[c] as usize;
+            let w = face_weight(parent.edge_sharpness[e], child_sharpness[e]);
+            child_pos[e0 + e] += w * fp;
+        }
     }
 
     // Vertex points.
-    let mut child_pos = Vec::with_capacity(nv + nfp + ne);
     for v in 0..nv {
-        let t = &vs[v];
+        let t = smooth[v];
         let p = pos[v];
-        let vsharp = parent.vertex_sharpness[v];
-        let child_vsharp = crease::decrement(vsharp);
-        let rule = crease::vertex_rule(vsharp, t.sharp);
-        let smooth = |t: &VertexSums| {
+        let smooth_rule = || {
             if t.edges == 0 || t.faces != t.edges {
                 return p; // isolated, or a fan the smooth rule does not apply to
             }
             let n = t.edges as f64;
-            (n - 2.0) / n * p + (t.edge_sum + t.face_sum) / (n * n)
+            (n - 2.0) / n * p + t.sum / (n * n)
         };
+        let vsharp = parent.vertex_sharpness[v];
+        let Some(x) = sharp.get(v) else {
+            child_pos[v] = smooth_rule();
+            continue;
+        };
+        let rule = crease::vertex_rule(vsharp, x.sharp);
         let apply = |rule: Rule, sharp_sum: DVec3| match rule {
-            Rule::Smooth => smooth(t),
+            Rule::Smooth => smooth_rule(),
             Rule::Crease => (sharp_sum + 6.0 * p) / 8.0,
             Rule::Corner => p,
         };
-        let out = if rule == Rule::Smooth {
-            smooth(t)
+        child_pos[v] = if rule == Rule::Smooth {
+            smooth_rule()
         } else {
-            let parent_p = apply(rule, t.sharp_sum);
-            let child_rule = crease::vertex_rule(child_vsharp, t.child_sharp);
+            let child_vsharp = crease::decrement(vsharp);
+            let parent_p = apply(rule, x.sharp_sum);
+            let child_rule = crease::vertex_rule(child_vsharp, x.child_sharp);
             if child_rule == rule {
                 parent_p
             } else {
-                let w = t.transitions.weight(vsharp, child_vsharp) as f64;
-                w * parent_p + (1.0 - w) * apply(child_rule, t.child_sharp_sum)
+                let w = x.transitions.weight(vsharp, child_vsharp) as f64;
+                w * parent_p + (1.0 - w) * apply(child_rule, x.child_sharp_sum)
             }
         };
-        child_pos.push(out);
     }
-    child_pos.extend_from_slice(&face_points);
-    child_pos.extend_from_slice(&edge_points);
 
-    let child = refine_topology(parent, &face_child, nfp, interior_edges, &child_sharpness);
+    let child = refine_topology(
+        parent,
+        &face_child,
+        refined,
+        interior_edges,
+        &child_sharpness,
+        last,
+    );
     (child, child_pos)
 }
 
@@ -191,6 +235,7 @@ fn refine_topology(
     face_points: usize,
     interior_edges: usize,
     child_sharpness: &[[f32; 2]],
+    last: bool,
 ) -> Level {
     let nv = parent.vertex_count;
     let ne = parent.edge_count() as usize;
@@ -215,7 +260,7 @@ fn refine_topology(
     child.face_loops.push(0);
     child.loop_offsets.push(0);
 
-    let mut interior = Vec::with_capacity(interior_edges);
+    let mut interior = Vec::with_capacity(if last { 0 } else { interior_edges });
     for f in 0..parent.face_count() as usize {
         let origin = parent.face_origin[f];
         if face_child[f] == u32::MAX {
@@ -267,9 +312,40 @@ fn refine_topology(
             child.face_kept.push(false);
             child.face_origin.push(origin);
         }
-        for c in cs {
-            interior.push([ev(parent.corner_edges[c]), fv(f)]);
+        if !last {
+            for c in cs {
+                interior.push([ev(parent.corner_edges[c]), fv(f)]);
+            }
         }
+    }
+
+    if last {
+        // Only the creases that remain, for the output mesh.
+        for (e, &[a, b]) in parent.edge_verts.iter().enumerate() {
+            if parent.edge_forced[e] {
+                continue;
+            }
+            let m = ev(e as u32);
+            for (end, v) in [a, b].into_iter().enumerate() {
+                let s = child_sharpness[e][end];
+                if crease::is_sharp(s) {
+                    child.last_creases.push(([v, m], s));
+                }
+            }
+        }
+        child.vertex_sharpness = parent
+            .vertex_sharpness
+            .iter()
+            .map(|&s| crease::decrement(s))
+            .collect();
+        child
+            .vertex_sharpness
+            .resize(child.vertex_count as usize, 0.0);
+        child.vertex_forced = parent.vertex_forced.clone();
+        child
+            .vertex_forced
+            .resize(child.vertex_count as usize, false);
+        return child;
     }
 
     child.edge_verts = interior;

@@ -30,6 +30,7 @@ pub(crate) struct Level {
     /// Pinned because of topology (boundary corner, non-manifold vertex).
     pub vertex_forced: Vec<bool>,
     /// Faces kept whole (faces with holes under method [b]): not split, loops refined.
+    /// Empty when no face is kept.
     pub face_kept: Vec<bool>,
     /// Input face each face descends from.
     pub face_origin: Vec<u32>,
@@ -43,6 +44,12 @@ impl Level {
     }
     pub fn edge_count(&self) -> u32 {
         self.edge_verts.len() as u32
+    }
+
+    /// Whether face `f` is kept whole.
+    #[inline]
+    pub fn is_kept(&self, f: usize) -> bool {
+        !self.face_kept.is_empty() && self.face_kept[f]
     }
 
     /// The corners of face `f` when it has a single loop.
@@ -196,7 +203,11 @@ impl Level {
             edge_forced,
             vertex_sharpness,
             vertex_forced,
-            face_kept,
+            face_kept: if face_kept.contains(&true) {
+                face_kept
+            } else {
+                Vec::new()
+            },
             face_origin: (0..face_count as u32).collect(),
             last_creases: Vec::new(),
         })

@@ -10,20 +10,25 @@
 //! none at all with faces with holes; OpenSubdiv is the reference it is tested against.
 
 mod crease;
+mod face_varying;
 pub mod features;
 pub mod holes;
 mod level;
 mod options;
+mod primvar;
 mod refine;
+mod refiner;
 pub mod regions;
 
-use std::collections::BTreeMap;
-
+pub use face_varying::FaceVarying;
 pub use options::{BoundaryInterpolation, CreaseMethod, HoleMethod, SubdivideOptions};
+pub use primvar::{Primvar, SparseRow};
+pub use refiner::{Refiner, Stencils};
 
-use crate::error::{Error, Result};
-use crate::mesh::{FaceId, PolyMesh, VertexId};
-use level::Level;
+use glam::DVec3;
+
+use crate::error::Result;
+use crate::mesh::{FaceId, PolyMesh};
 
 /// What [`catmull_clark`] returns.
 #[derive(Debug, Clone)]
@@ -47,61 +52,31 @@ pub struct SubdivideReport {
 
 /// Catmull-Clark subdivision, `options.levels` times.
 ///
-/// Never changes `mesh`. Errors: [`Error::EmptyMesh`] without faces, [`Error::InvalidOption`]
-/// for 0 levels or more than 8 (the face count grows 4× per level).
+/// Never changes `mesh`. Errors: [`crate::Error::EmptyMesh`] without faces,
+/// [`crate::Error::InvalidOption`] for 0 levels or more than 8 (the face count grows 4× per
+/// level). To carry other data (colours, UVs) or get the stencil matrix, use [`Refiner`].
 pub fn catmull_clark(mesh: &PolyMesh, options: &SubdivideOptions) -> Result<Subdivided> {
-    mesh.require_faces("subdivision")?;
-    if options.levels == 0 || options.levels > 8 {
-        return Err(Error::InvalidOption {
-            option: "levels",
-            message: format!("{} is outside 1..=8", options.levels),
+    catmull_clark_with_progress(mesh, options, &mut |_, _| {})
+}
+
+/// [`catmull_clark`], calling `progress(steps_done, steps)` as it goes, for front ends that
+/// show progress on long work.
+pub fn catmull_clark_with_progress(
+    mesh: &PolyMesh,
+    options: &SubdivideOptions,
+    progress: &mut dyn FnMut(u32, u32),
+) -> Result<Subdivided> {
+    let total = 2 * options.levels;
+    let refiner = Refiner::with_progress(mesh, options, &mut |done, _| progress(done, total))?;
+    let positions: Vec<DVec3> = refiner
+        .interpolate_with_progress(mesh.positions(), &mut |done, _| {
+            progress(options.levels + done, total)
         });
-    }
-    let mut report = SubdivideReport::default();
-    let keep = |f: u32| mesh.face_loop_count(FaceId(f)) > 1;
-    if options.holes == HoleMethod::Smooth {
-        for f in mesh.faces().filter(|&f| mesh.face_loop_count(f) > 1) {
-            report.fell_back_to_sharp.push((
-                f,
-                "method [a] bridging is not available yet; method [b] was used".into(),
-            ));
-        }
-    }
-    let mut level = Level::from_mesh(mesh, options, &keep)?;
-    let mut pos = mesh.positions().to_vec();
-    for l in 0..options.levels {
-        let last = l + 1 == options.levels;
-        let (child, child_pos) = refine::refine(&level, &pos, options.crease_method, None, last);
-        level = child;
-        pos = child_pos;
-    }
-    let face_origin = level.face_origin.iter().map(|&f| FaceId(f)).collect();
+    let face_origin = refiner.face_origin();
+    let report = refiner.report().clone();
     Ok(Subdivided {
-        mesh: to_mesh(level, pos),
+        mesh: refiner.into_mesh(positions),
         face_origin,
         report,
     })
 }
-
-/// The last level as a [`PolyMesh`], keeping the user's remaining sharpness.
-fn to_mesh(level: Level, pos: Vec<DVec3>) -> PolyMesh {
-    let edge_sharpness: BTreeMap<(u32, u32), f64> = level
-        .last_creases
-        .iter()
-        .map(|&([a, b], s)| ((a.min(b), a.max(b)), s as f64))
-        .collect();
-    let vertex_sharpness = level
-        .vertex_sharpness
-        .iter()
-        .zip(&level.vertex_forced)
-        .map(|(&s, &forced)| if forced { 0.0 } else { s as f64 })
-        .collect();
-    let corners = level.corner_verts.into_iter().map(VertexId).collect();
-    let mut mesh =
-        PolyMesh::from_parts_unchecked(pos, level.face_loops, level.loop_offsets, corners);
-    mesh.attributes.edge_sharpness = edge_sharpness;
-    mesh.attributes.vertex_sharpness = vertex_sharpness;
-    mesh
-}
-
-use glam::DVec3;

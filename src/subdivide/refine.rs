@@ -1,10 +1,12 @@
-//! One Catmull-Clark step: child positions and child topology from a [`Level`].
+//! One Catmull-Clark step, split in two: a [`Step`] decides everything that depends only on
+//! topology and sharpness (which faces split, child sharpness, each vertex's rule and blend
+//! weight), and [`interpolate`] applies it to values of any [`Primvar`] type.
 //!
-//! Positions follow seed 001 (which takes them from DeRose et al. 1998): face point §2.1,
-//! edge point eq. (1), vertex point eq. (2); sharp edge point = midpoint; crease vertex
-//! eq. (3); corner vertex eq. (4); semi-sharp edges and rule changes between levels blend the
-//! masks as OpenSubdiv does (spec §7.1). Every sum is a scatter pass over corners or edges,
-//! so the work is linear and no vertex ring is walked.
+//! Rules follow seed 001 (which takes them from DeRose et al. 1998): face point §2.1, edge
+//! point eq. (1), vertex point eq. (2); sharp edge point = midpoint; crease vertex eq. (3);
+//! corner vertex eq. (4); semi-sharp edges and rule changes between levels blend the masks
+//! as OpenSubdiv does (spec §7.1). Every sum is a scatter pass over corners or edges, so the
+//! work is linear and no vertex ring is walked.
 //!
 //! Child numbering (OpenSubdiv's default for uniform refinement): vertices are the children
 //! of vertices, then of faces, then of edges; edges are the face-interior edges (corner
@@ -14,33 +16,37 @@
 // Loops index several parallel arrays by the same face or corner; iterators would hide that.
 #![allow(clippy::needless_range_loop)]
 
-use glam::DVec3;
-
 use super::crease::{self, Rule, SemiSharpAtVertex, Transitions};
 use super::level::Level;
 use super::options::CreaseMethod;
+use super::primvar::Primvar;
 
-/// A face point other than the vertex average, for method [a]'s virtual faces (seed 001
-/// §3.1: the average of the two bridge ends on each loop).
-pub(crate) type FacePointOverride<'a> = &'a dyn Fn(usize) -> Option<DVec3>;
-
-/// Per-vertex sums for the smooth rule, eq. (2): Σ e_j + Σ f_j and the counts.
-#[derive(Clone, Copy, Default)]
-struct SmoothSums {
-    sum: DVec3,
-    edges: u32,
-    faces: u32,
+/// How a vertex point is made when the level has sharpness.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct VertexMask {
+    pub rule: Rule,
+    pub child_rule: Rule,
+    /// Weight of `rule` when it differs from `child_rule` (OpenSubdiv's fractional weight).
+    pub weight: f64,
 }
 
-/// Per-vertex sums for the crease and corner rules (only where the level has sharpness).
-#[derive(Clone, Copy, Default)]
-struct SharpSums {
-    /// Far ends of the sharp edges in the parent, and of the edges whose child is sharp.
-    sharp_sum: DVec3,
-    sharp: u32,
-    child_sharp_sum: DVec3,
-    child_sharp: u32,
-    transitions: Transitions,
+/// What one level's refinement decided, for any interpolated data.
+#[derive(Debug, Clone)]
+pub(crate) struct Step {
+    /// Parent face → index among the split faces, `u32::MAX` for kept faces.
+    pub face_child: Vec<u32>,
+    pub refined: usize,
+    pub interior_edges: usize,
+    /// Per parent edge, the sharpness of its two halves (zeros when the level is smooth).
+    pub child_sharpness: Vec<[f32; 2]>,
+    /// Per vertex: number of incident edges and of incident split faces.
+    pub vertex_edges: Vec<u32>,
+    pub vertex_faces: Vec<u32>,
+    /// Per vertex, when the level has any sharpness.
+    pub masks: Vec<VertexMask>,
+    /// Per parent face, the vertices whose average is its face point when that is not the
+    /// face's own vertex average (method [a]'s virtual faces, seed 001 §3.1).
+    pub face_point_vertices: Vec<Option<Vec<u32>>>,
 }
 
 /// Weight of a face point in an edge point: ¼ for a smooth edge (eq. (1)), 0 for a sharp
@@ -56,322 +62,380 @@ fn face_weight(s: f32, child: [f32; 2]) -> f64 {
     }
 }
 
-/// Refines `parent` once. Returns the child level and its positions. For the last level
-/// (`last`), the child's edges are not built: only faces and the remaining creases.
-pub(crate) fn refine(
+/// Decides one level's refinement.
+pub(crate) fn plan(
     parent: &Level,
-    pos: &[DVec3],
     method: CreaseMethod,
-    face_point: Option<FacePointOverride>,
-    last: bool,
-) -> (Level, Vec<DVec3>) {
+    face_point_vertices: Vec<Option<Vec<u32>>>,
+) -> Step {
     let nv = parent.vertex_count as usize;
     let nf = parent.face_count() as usize;
     let ne = parent.edge_count() as usize;
-
     let mut face_child = vec![u32::MAX; nf];
     let mut refined = 0usize;
     let mut interior_edges = 0usize;
+    let mut vertex_faces = vec![0u32; nv];
     for f in 0..nf {
-        if !parent.face_kept[f] {
+        if !parent.is_kept(f) {
             face_child[f] = refined as u32;
             refined += 1;
-            interior_edges += parent.face_corners(f).len();
+            let cs = parent.face_corners(f);
+            interior_edges += cs.len();
+            for c in cs {
+                vertex_faces[parent.corner_verts[c] as usize] += 1;
+            }
         }
     }
-    let (f0, e0) = (nv, nv + refined);
-    let mut child_pos = vec![DVec3::ZERO; nv + refined + ne];
+    let mut vertex_edges = vec![0u32; nv];
+    for &[a, b] in &parent.edge_verts {
+        vertex_edges[a as usize] += 1;
+        vertex_edges[b as usize] += 1;
+    }
+    let any_sharp = parent.edge_sharpness.iter().any(|&s| crease::is_sharp(s))
+        || parent.vertex_sharpness.iter().any(|&s| crease::is_sharp(s));
+    let mut child_sharpness = vec![[0f32; 2]; ne];
+    let mut masks = Vec::new();
+    if any_sharp {
+        // Chaikin needs, at each vertex, the sum and count of its semi-sharp edges.
+        let mut semi = vec![SemiSharpAtVertex::default(); nv];
+        if method == CreaseMethod::Chaikin {
+            for (e, &[a, b]) in parent.edge_verts.iter().enumerate() {
+                let s = parent.edge_sharpness[e];
+                if crease::is_semi_sharp(s) {
+                    for v in [a, b] {
+                        semi[v as usize].sum += s;
+                        semi[v as usize].count += 1;
+                    }
+                }
+            }
+        }
+        let mut counts = vec![(0u32, 0u32, Transitions::default()); nv];
+        for (e, &[a, b]) in parent.edge_verts.iter().enumerate() {
+            let s = parent.edge_sharpness[e];
+            if !crease::is_sharp(s) {
+                continue;
+            }
+            let c = [
+                crease::child_sharpness(method, s, semi[a as usize]),
+                crease::child_sharpness(method, s, semi[b as usize]),
+            ];
+            child_sharpness[e] = c;
+            for (end, v) in [a, b].into_iter().enumerate() {
+                let t = &mut counts[v as usize];
+                t.0 += 1;
+                t.1 += crease::is_sharp(c[end]) as u32;
+                t.2.add_edge(method, s, c[end]);
+            }
+        }
+        masks = (0..nv)
+            .map(|v| {
+                let (sharp, child_sharp, transitions) = counts[v];
+                let vsharp = parent.vertex_sharpness[v];
+                let child_vsharp = crease::decrement(vsharp);
+                let rule = crease::vertex_rule(vsharp, sharp);
+                let child_rule = crease::vertex_rule(child_vsharp, child_sharp);
+                let weight = if rule == Rule::Smooth || child_rule == rule {
+                    1.0
+                } else {
+                    transitions.weight(vsharp, child_vsharp) as f64
+                };
+                VertexMask {
+                    rule,
+                    child_rule,
+                    weight,
+                }
+            })
+            .collect();
+    }
+    Step {
+        face_child,
+        refined,
+        interior_edges,
+        child_sharpness,
+        vertex_edges,
+        vertex_faces,
+        masks,
+        face_point_vertices,
+    }
+}
 
-    // Face points (§2.1: vertex average), for the faces that are split.
+/// Applies `step` to per-vertex values of `parent`: returns the child level's values
+/// (children of vertices, then of faces, then of edges).
+pub(crate) fn interpolate<T: Primvar>(parent: &Level, step: &Step, values: &[T]) -> Vec<T> {
+    let nv = parent.vertex_count as usize;
+    let nf = parent.face_count() as usize;
+    let ne = parent.edge_count() as usize;
+    let (f0, e0) = (nv, nv + step.refined);
+    let mut out = vec![T::zero(); nv + step.refined + ne];
+
+    // Face points (§2.1: vertex average, or method [a]'s four bridge ends).
     for f in 0..nf {
-        let fc = face_child[f];
+        let fc = step.face_child[f];
         if fc == u32::MAX {
             continue;
         }
-        let cs = parent.face_corners(f);
-        child_pos[f0 + fc as usize] = face_point.and_then(|o| o(f)).unwrap_or_else(|| {
-            let sum: DVec3 = cs
-                .clone()
-                .map(|c| pos[parent.corner_verts[c] as usize])
-                .sum();
-            sum / cs.len() as f64
-        });
-    }
-
-    let any_sharp = parent.edge_sharpness.iter().any(|&s| crease::is_sharp(s))
-        || parent.vertex_sharpness.iter().any(|&s| crease::is_sharp(s));
-
-    // Chaikin needs, at each vertex, the sum and count of its semi-sharp edges.
-    let mut semi = Vec::new();
-    if any_sharp && method == CreaseMethod::Chaikin {
-        semi = vec![SemiSharpAtVertex::default(); nv];
-        for (e, &[a, b]) in parent.edge_verts.iter().enumerate() {
-            let s = parent.edge_sharpness[e];
-            if crease::is_semi_sharp(s) {
-                for v in [a, b] {
-                    semi[v as usize].sum += s;
-                    semi[v as usize].count += 1;
+        let p = &mut out[f0 + fc as usize];
+        match step.face_point_vertices.get(f).and_then(Option::as_ref) {
+            Some(vs) => {
+                let w = 1.0 / vs.len() as f64;
+                for &v in vs {
+                    p.add_scaled(&values[v as usize], w);
+                }
+            }
+            None => {
+                let cs = parent.face_corners(f);
+                let w = 1.0 / cs.len() as f64;
+                for c in cs {
+                    p.add_scaled(&values[parent.corner_verts[c] as usize], w);
                 }
             }
         }
     }
 
-    // Edges: child sharpness, per-vertex sums, and the vertex part of the edge points.
-    let mut smooth = vec![SmoothSums::default(); nv];
-    let mut sharp = if any_sharp {
-        vec![SharpSums::default(); nv]
+    // Σ e_j + Σ f_j per vertex (eq. (2)); the vertex part of each edge point.
+    let sharp = !step.masks.is_empty();
+    let mut sum = vec![T::zero(); nv];
+    let (mut sharp_sum, mut child_sharp_sum) = if sharp {
+        (vec![T::zero(); nv], vec![T::zero(); nv])
     } else {
-        Vec::new()
+        (Vec::new(), Vec::new())
     };
-    let mut child_sharpness = vec![[0f32; 2]; ne];
     for (e, &[a, b]) in parent.edge_verts.iter().enumerate() {
-        let (pa, pb) = (pos[a as usize], pos[b as usize]);
-        for (v, far) in [(a, pb), (b, pa)] {
-            let t = &mut smooth[v as usize];
-            t.sum += far;
-            t.edges += 1;
-        }
+        let (va, vb) = (&values[a as usize], &values[b as usize]);
+        sum[a as usize].add_scaled(vb, 1.0);
+        sum[b as usize].add_scaled(va, 1.0);
         let s = parent.edge_sharpness[e];
+        let ep = &mut out[e0 + e];
         if !crease::is_sharp(s) {
-            child_pos[e0 + e] = 0.25 * (pa + pb);
+            ep.add_scaled(va, 0.25);
+            ep.add_scaled(vb, 0.25);
             continue;
         }
-        let at = |v: u32| semi.get(v as usize).copied().unwrap_or_default();
-        let c = [
-            crease::child_sharpness(method, s, at(a)),
-            crease::child_sharpness(method, s, at(b)),
-        ];
-        child_sharpness[e] = c;
-        for (end, (v, far)) in [(a, pb), (b, pa)].into_iter().enumerate() {
-            let t = &mut sharp[v as usize];
-            t.sharp_sum += far;
-            t.sharp += 1;
-            if crease::is_sharp(c[end]) {
-                t.child_sharp_sum += far;
-                t.child_sharp += 1;
-            }
-            t.transitions.add_edge(method, s, c[end]);
-        }
-        // Midpoint, or the blend of smooth and sharp masks by the sharpness (the face part
-        // is added below).
-        let vertex_weight = if face_weight(s, c) == 0.0 {
+        let c = step.child_sharpness[e];
+        let w = if face_weight(s, c) == 0.0 {
             0.5
         } else {
             let sw = s as f64;
             sw * 0.5 + (1.0 - sw) * 0.25
         };
-        child_pos[e0 + e] = vertex_weight * (pa + pb);
+        ep.add_scaled(va, w);
+        ep.add_scaled(vb, w);
+        sharp_sum[a as usize].add_scaled(vb, 1.0);
+        sharp_sum[b as usize].add_scaled(va, 1.0);
+        if crease::is_sharp(c[0]) {
+            child_sharp_sum[a as usize].add_scaled(vb, 1.0);
+        }
+        if crease::is_sharp(c[1]) {
+            child_sharp_sum[b as usize].add_scaled(va, 1.0);
+        }
     }
 
     // Scatter face points to vertices (eq. (2)) and edges (eq. (1)).
     for f in 0..nf {
-        let fc = face_child[f];
+        let fc = step.face_child[f];
         if fc == u32::MAX {
             continue;
         }
-        let fp = child_pos[f0 + fc as usize];
+        let fp = out[f0 + fc as usize].clone();
         for c in parent.face_corners(f) {
-            let t = &mut smooth[parent.corner_verts[c] as usize];
-            t.sum += fp;
-            t.faces += 1;
+            sum[parent.corner_verts[c] as usize].add_scaled(&fp, 1.0);
             let e = parent.corner_edges[c] as usize;
-            let w = face_weight(parent.edge_sharpness[e], child_sharpness[e]);
-            child_pos[e0 + e] += w * fp;
+            let w = face_weight(parent.edge_sharpness[e], step.child_sharpness[e]);
+            if w != 0.0 {
+                out[e0 + e].add_scaled(&fp, w);
+            }
         }
     }
 
     // Vertex points.
     for v in 0..nv {
-        let t = smooth[v];
-        let p = pos[v];
-        let smooth_rule = || {
-            if t.edges == 0 || t.faces != t.edges {
-                return p; // isolated, or a fan the smooth rule does not apply to
+        let p = &values[v];
+        let smooth = |into: &mut T, w: f64| {
+            let (edges, faces) = (step.vertex_edges[v], step.vertex_faces[v]);
+            if edges == 0 || faces != edges {
+                into.add_scaled(p, w); // isolated, or a fan the smooth rule does not apply to
+                return;
             }
-            let n = t.edges as f64;
-            (n - 2.0) / n * p + t.sum / (n * n)
+            let n = edges as f64;
+            into.add_scaled(p, w * (n - 2.0) / n);
+            into.add_scaled(&sum[v], w / (n * n));
         };
-        let vsharp = parent.vertex_sharpness[v];
-        let Some(x) = sharp.get(v) else {
-            child_pos[v] = smooth_rule();
-            continue;
-        };
-        let rule = crease::vertex_rule(vsharp, x.sharp);
-        let apply = |rule: Rule, sharp_sum: DVec3| match rule {
-            Rule::Smooth => smooth_rule(),
-            Rule::Crease => (sharp_sum + 6.0 * p) / 8.0,
-            Rule::Corner => p,
-        };
-        child_pos[v] = if rule == Rule::Smooth {
-            smooth_rule()
-        } else {
-            let child_vsharp = crease::decrement(vsharp);
-            let parent_p = apply(rule, x.sharp_sum);
-            let child_rule = crease::vertex_rule(child_vsharp, x.child_sharp);
-            if child_rule == rule {
-                parent_p
-            } else {
-                let w = x.transitions.weight(vsharp, child_vsharp) as f64;
-                w * parent_p + (1.0 - w) * apply(child_rule, x.child_sharp_sum)
+        let apply = |into: &mut T, rule: Rule, sharp_sum: &T, w: f64| match rule {
+            Rule::Smooth => smooth(into, w),
+            Rule::Crease => {
+                into.add_scaled(sharp_sum, w / 8.0);
+                into.add_scaled(p, w * 0.75);
             }
+            Rule::Corner => into.add_scaled(p, w),
         };
+        let mut q = T::zero();
+        match step.masks.get(v) {
+            None => smooth(&mut q, 1.0),
+            Some(m) if m.rule == Rule::Smooth => smooth(&mut q, 1.0),
+            Some(m) => {
+                apply(&mut q, m.rule, &sharp_sum[v], m.weight);
+                if m.child_rule != m.rule {
+                    apply(&mut q, m.child_rule, &child_sharp_sum[v], 1.0 - m.weight);
+                }
+            }
+        }
+        out[v] = q;
     }
-
-    let child = refine_topology(
-        parent,
-        &face_child,
-        refined,
-        interior_edges,
-        &child_sharpness,
-        last,
-    );
-    (child, child_pos)
+    out
 }
 
-/// The child level's faces, edges and sharpness.
-fn refine_topology(
-    parent: &Level,
-    face_child: &[u32],
-    face_points: usize,
-    interior_edges: usize,
-    child_sharpness: &[[f32; 2]],
-    last: bool,
-) -> Level {
+/// The child level's faces, edges and sharpness. For the last level (`last`), the child's
+/// edges are not built: only faces and the creases that remain.
+pub(crate) fn child_level(parent: &Level, step: &Step, last: bool) -> Level {
     let nv = parent.vertex_count;
     let ne = parent.edge_count() as usize;
-    let fv = |f: usize| nv + face_child[f];
-    let ev = |e: u32| nv + face_points as u32 + e;
+    let face_points = step.refined as u32;
+    let fv = |f: usize| nv + step.face_child[f];
+    let ev = |e: u32| nv + face_points + e;
     let half = |e: u32, v: u32| {
-        (interior_edges + 2 * e as usize) as u32 + (parent.edge_verts[e as usize][0] != v) as u32
+        (step.interior_edges + 2 * e as usize) as u32
+            + (parent.edge_verts[e as usize][0] != v) as u32
     };
-
     let mut child = Level {
-        vertex_count: nv + face_points as u32 + ne as u32,
+        vertex_count: nv + face_points + ne as u32,
         ..Default::default()
     };
-    let child_faces = interior_edges + parent.face_kept.iter().filter(|&&k| k).count();
-    let child_corners = 4 * interior_edges + 2 * (parent.corner_verts.len() - interior_edges);
-    child.face_loops.reserve(child_faces + 1);
-    child.loop_offsets.reserve(child_faces + 1);
-    child.corner_verts.reserve(child_corners);
-    child.corner_edges.reserve(child_corners);
-    child.face_origin.reserve(child_faces);
-    child.face_kept.reserve(child_faces);
-    child.face_loops.push(0);
-    child.loop_offsets.push(0);
+    let mut interior: Vec<[u32; 2]> = Vec::new();
 
-    let mut interior = Vec::with_capacity(if last { 0 } else { interior_edges });
-    for f in 0..parent.face_count() as usize {
-        let origin = parent.face_origin[f];
-        if face_child[f] == u32::MAX {
-            // Kept face: one child face, each loop refined (every loop edge split in two).
-            let (l0, l1) = (
-                parent.face_loops[f] as usize,
-                parent.face_loops[f + 1] as usize,
-            );
-            for l in l0..l1 {
-                let (a, b) = (
-                    parent.loop_offsets[l] as usize,
-                    parent.loop_offsets[l + 1] as usize,
-                );
-                for c in a..b {
-                    let v = parent.corner_verts[c];
-                    let next = parent.corner_verts[if c + 1 < b { c + 1 } else { a }];
-                    let e = parent.corner_edges[c];
-                    child.corner_verts.extend_from_slice(&[v, ev(e)]);
-                    child
-                        .corner_edges
-                        .extend_from_slice(&[half(e, v), half(e, next)]);
-                }
-                child.loop_offsets.push(child.corner_verts.len() as u32);
-            }
-            child.face_loops.push(child.loop_offsets.len() as u32 - 1);
-            child.face_kept.push(true);
-            child.face_origin.push(origin);
-            continue;
-        }
-        let cs = parent.face_corners(f);
-        let base = interior.len() as u32;
-        let k = cs.len() as u32;
-        for (j, c) in cs.clone().enumerate() {
-            let j = j as u32;
-            let prev = if c == cs.start { cs.end - 1 } else { c - 1 };
-            let v = parent.corner_verts[c];
-            let (e, ep) = (parent.corner_edges[c], parent.corner_edges[prev]);
-            child
-                .corner_verts
-                .extend_from_slice(&[v, ev(e), fv(f), ev(ep)]);
-            child.corner_edges.extend_from_slice(&[
-                half(e, v),
-                base + j,
-                base + (j + k - 1) % k,
-                half(ep, v),
-            ]);
-            child.loop_offsets.push(child.corner_verts.len() as u32);
-            child.face_loops.push(child.loop_offsets.len() as u32 - 1);
-            child.face_kept.push(false);
-            child.face_origin.push(origin);
-        }
+    if parent.face_kept.is_empty() {
+        // Every face splits into quads: write the arrays by index.
+        let n = step.interior_edges;
+        child.corner_verts = vec![0; 4 * n];
         if !last {
+            child.corner_edges = vec![0; 4 * n];
+        }
+        child.face_origin = vec![0; n];
+        if !last {
+            interior = vec![[0; 2]; n];
+        }
+        let mut i = 0usize;
+        for f in 0..parent.face_count() as usize {
+            let cs = parent.face_corners(f);
+            let k = cs.len();
+            let origin = parent.face_origin[f];
+            for (j, c) in cs.clone().enumerate() {
+                let prev = if c == cs.start { cs.end - 1 } else { c - 1 };
+                let v = parent.corner_verts[c];
+                let (e, ep) = (parent.corner_edges[c], parent.corner_edges[prev]);
+                let q = 4 * (i + j);
+                child.corner_verts[q..q + 4].copy_from_slice(&[v, ev(e), fv(f), ev(ep)]);
+                child.face_origin[i + j] = origin;
+                if !last {
+                    child.corner_edges[q..q + 4].copy_from_slice(&[
+                        half(e, v),
+                        (i + j) as u32,
+                        (i + (j + k - 1) % k) as u32,
+                        half(ep, v),
+                    ]);
+                    interior[i + j] = [ev(e), fv(f)];
+                }
+            }
+            i += k;
+        }
+        child.loop_offsets = (0..=n as u32).map(|x| 4 * x).collect();
+        child.face_loops = (0..=n as u32).collect();
+    } else {
+        child.face_loops.push(0);
+        child.loop_offsets.push(0);
+        for f in 0..parent.face_count() as usize {
+            let origin = parent.face_origin[f];
+            if parent.is_kept(f) {
+                // Kept face: one child face, each loop refined (every loop edge split in two).
+                let (l0, l1) = (parent.face_loops[f] as usize, parent.face_loops[f + 1] as usize);
+                for l in l0..l1 {
+                    let (a, b) = (
+                        parent.loop_offsets[l] as usize,
+                        parent.loop_offsets[l + 1] as usize,
+                    );
+                    for c in a..b {
+                        let v = parent.corner_verts[c];
+                        let next = parent.corner_verts[if c + 1 < b { c + 1 } else { a }];
+                        let e = parent.corner_edges[c];
+                        child.corner_verts.extend_from_slice(&[v, ev(e)]);
+                        child
+                            .corner_edges
+                            .extend_from_slice(&[half(e, v), half(e, next)]);
+                    }
+                    child.loop_offsets.push(child.corner_verts.len() as u32);
+                }
+                child.face_loops.push(child.loop_offsets.len() as u32 - 1);
+                child.face_kept.push(true);
+                child.face_origin.push(origin);
+                continue;
+            }
+            let cs = parent.face_corners(f);
+            let base = interior.len() as u32;
+            let k = cs.len() as u32;
+            for (j, c) in cs.clone().enumerate() {
+                let j = j as u32;
+                let prev = if c == cs.start { cs.end - 1 } else { c - 1 };
+                let v = parent.corner_verts[c];
+                let (e, ep) = (parent.corner_edges[c], parent.corner_edges[prev]);
+                child
+                    .corner_verts
+                    .extend_from_slice(&[v, ev(e), fv(f), ev(ep)]);
+                child.corner_edges.extend_from_slice(&[
+                    half(e, v),
+                    base + j,
+                    base + (j + k - 1) % k,
+                    half(ep, v),
+                ]);
+                child.loop_offsets.push(child.corner_verts.len() as u32);
+                child.face_loops.push(child.loop_offsets.len() as u32 - 1);
+                child.face_kept.push(false);
+                child.face_origin.push(origin);
+            }
             for c in cs {
                 interior.push([ev(parent.corner_edges[c]), fv(f)]);
             }
         }
     }
 
+    let n = child.vertex_count as usize;
+    child.vertex_sharpness = Vec::with_capacity(n);
+    child
+        .vertex_sharpness
+        .extend(parent.vertex_sharpness.iter().map(|&s| crease::decrement(s)));
+    child.vertex_sharpness.resize(n, 0.0);
+    child.vertex_forced = parent.vertex_forced.clone();
+    child.vertex_forced.resize(n, false);
+
     if last {
         // Only the creases that remain, for the output mesh.
+        child.corner_edges = Vec::new();
         for (e, &[a, b]) in parent.edge_verts.iter().enumerate() {
             if parent.edge_forced[e] {
                 continue;
             }
             let m = ev(e as u32);
             for (end, v) in [a, b].into_iter().enumerate() {
-                let s = child_sharpness[e][end];
+                let s = step.child_sharpness[e][end];
                 if crease::is_sharp(s) {
                     child.last_creases.push(([v, m], s));
                 }
             }
         }
-        child.vertex_sharpness = parent
-            .vertex_sharpness
-            .iter()
-            .map(|&s| crease::decrement(s))
-            .collect();
-        child
-            .vertex_sharpness
-            .resize(child.vertex_count as usize, 0.0);
-        child.vertex_forced = parent.vertex_forced.clone();
-        child
-            .vertex_forced
-            .resize(child.vertex_count as usize, false);
         return child;
     }
 
+    let interior_count = interior.len();
     child.edge_verts = interior;
     child.edge_verts.reserve(2 * ne);
-    child.edge_sharpness = vec![0.0; interior_edges];
+    child.edge_sharpness = vec![0.0; interior_count];
     child.edge_sharpness.reserve(2 * ne);
-    child.edge_forced = vec![false; interior_edges];
+    child.edge_forced = vec![false; interior_count];
     child.edge_forced.reserve(2 * ne);
     for (e, &[a, b]) in parent.edge_verts.iter().enumerate() {
         let m = ev(e as u32);
         child.edge_verts.extend_from_slice(&[[a, m], [m, b]]);
-        child.edge_sharpness.extend_from_slice(&child_sharpness[e]);
+        child.edge_sharpness.extend_from_slice(&step.child_sharpness[e]);
         let forced = parent.edge_forced[e];
         child.edge_forced.extend_from_slice(&[forced, forced]);
     }
-
-    let n = child.vertex_count as usize;
-    child.vertex_sharpness = Vec::with_capacity(n);
-    child.vertex_sharpness.extend(
-        parent
-            .vertex_sharpness
-            .iter()
-            .map(|&s| crease::decrement(s)),
-    );
-    child.vertex_sharpness.resize(n, 0.0);
-    child.vertex_forced = parent.vertex_forced.clone();
-    child.vertex_forced.resize(n, false);
     child
 }

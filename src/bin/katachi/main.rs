@@ -9,6 +9,7 @@ use katachi::mesh::{inspect, MeshReport};
 use katachi::{io, Error};
 
 mod demo;
+mod subdivide;
 
 #[derive(Parser)]
 #[command(name = "katachi", version, about = "katachi: a mesh-modelling kernel", long_about = None)]
@@ -31,6 +32,8 @@ enum Command {
         /// Output file (.obj, .ply, .off).
         output: PathBuf,
     },
+    /// Catmull-Clark subdivision, solid-aware (creases, faces with holes; seed 001).
+    Subdivide(subdivide::Args),
     /// Run every operation on the bundled example models and write the results.
     Demo {
         /// Directory for the results (created if missing).
@@ -81,6 +84,7 @@ fn run(command: Command) -> Result<(), Error> {
             );
             Ok(())
         }
+        Command::Subdivide(args) => subdivide::run(&args),
         Command::Demo { out } => demo::run(&out),
     }
 }

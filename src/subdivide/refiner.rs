@@ -1,0 +1,234 @@
+//! [`Refiner`]: the subdivision hierarchy of one mesh, built once, through which positions,
+//! vertex data, face-varying data and the stencil matrix are interpolated (libigl's
+//! "return the operator so any attribute follows"; OpenSubdiv's refiner + primvar split).
+
+use std::collections::BTreeMap;
+
+use glam::DVec3;
+
+use super::face_varying::{self, FaceVarying};
+use super::level::Level;
+use super::options::{HoleMethod, SubdivideOptions};
+use super::primvar::{Primvar, SparseRow};
+use super::refine::{self, Step};
+use super::SubdivideReport;
+use crate::error::{Error, Result};
+use crate::mesh::{FaceId, PolyMesh, VertexId};
+
+/// The refined topology of a mesh, every level kept, ready to interpolate data.
+#[derive(Debug, Clone)]
+pub struct Refiner {
+    /// Levels 0..=L; the last is built without edges.
+    levels: Vec<Level>,
+    steps: Vec<Step>,
+    options: SubdivideOptions,
+    report: SubdivideReport,
+    /// Input mesh corners → level-0 corners is the identity unless faces were bridged.
+    input_vertices: u32,
+}
+
+/// The subdivision as a sparse matrix: row `i` gives output vertex `i` as a weighted sum of
+/// input vertices (compressed rows: `offsets` has #output + 1 entries).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Stencils {
+    pub offsets: Vec<u32>,
+    pub sources: Vec<VertexId>,
+    pub weights: Vec<f64>,
+}
+
+impl Stencils {
+    /// Applies the matrix to per-input-vertex values.
+    pub fn apply<T: Primvar>(&self, values: &[T]) -> Vec<T> {
+        self.offsets
+            .windows(2)
+            .map(|w| {
+                let mut v = T::zero();
+                for k in w[0] as usize..w[1] as usize {
+                    v.add_scaled(&values[self.sources[k].idx()], self.weights[k]);
+                }
+                v
+            })
+            .collect()
+    }
+}
+
+impl Refiner {
+    /// Builds the hierarchy (topology and rules only, no positions).
+    pub fn new(mesh: &PolyMesh, options: &SubdivideOptions) -> Result<Refiner> {
+        Self::with_progress(mesh, options, &mut |_, _| {})
+    }
+
+    /// [`Refiner::new`], calling `progress(levels_done, levels)` after each level.
+    pub fn with_progress(
+        mesh: &PolyMesh,
+        options: &SubdivideOptions,
+        progress: &mut dyn FnMut(u32, u32),
+    ) -> Result<Refiner> {
+        mesh.require_faces("subdivision")?;
+        if options.levels == 0 || options.levels > 8 {
+            return Err(Error::InvalidOption {
+                option: "levels",
+                message: format!("{} is outside 1..=8", options.levels),
+            });
+        }
+        let mut report = SubdivideReport::default();
+        let keep = |f: u32| mesh.face_loop_count(FaceId(f)) > 1;
+        if options.holes == HoleMethod::Smooth {
+            for f in mesh.faces().filter(|&f| mesh.face_loop_count(f) > 1) {
+                report.fell_back_to_sharp.push((
+                    f,
+                    "method [a] bridging is not available yet; method [b] was used".into(),
+                ));
+            }
+        }
+        let mut levels = vec![Level::from_mesh(mesh, options, &keep)?];
+        let mut steps = Vec::with_capacity(options.levels as usize);
+        for l in 0..options.levels {
+            let parent = levels.last().expect("level 0 exists");
+            let step = refine::plan(parent, options.crease_method, Vec::new());
+            let child = refine::child_level(parent, &step, l + 1 == options.levels);
+            steps.push(step);
+            levels.push(child);
+            progress(l + 1, options.levels);
+        }
+        Ok(Refiner {
+            levels,
+            steps,
+            options: options.clone(),
+            report,
+            input_vertices: mesh.vertex_count(),
+        })
+    }
+
+    /// Number of levels.
+    pub fn levels(&self) -> u32 {
+        self.steps.len() as u32
+    }
+    /// Number of vertices of the refined mesh.
+    pub fn vertex_count(&self) -> u32 {
+        self.last().vertex_count
+    }
+    /// Number of face corners of the refined mesh.
+    pub fn corner_count(&self) -> u32 {
+        self.last().corner_verts.len() as u32
+    }
+    /// What was done differently from what was asked.
+    pub fn report(&self) -> &SubdivideReport {
+        &self.report
+    }
+    /// The options the hierarchy was built with.
+    pub fn options(&self) -> &SubdivideOptions {
+        &self.options
+    }
+    fn last(&self) -> &Level {
+        self.levels.last().expect("a refiner has levels")
+    }
+
+    /// For each output face, the input face it comes from.
+    pub fn face_origin(&self) -> Vec<FaceId> {
+        self.last().face_origin.iter().map(|&f| FaceId(f)).collect()
+    }
+
+    /// Interpolates per-input-vertex data (positions, colours, weights) to the output
+    /// vertices with the subdivision rules (OpenSubdiv's "vertex" interpolation).
+    pub fn refine_vertex_data<T: Primvar>(&self, values: &[T]) -> Result<Vec<T>> {
+        if values.len() != self.input_vertices as usize {
+            return Err(Error::AttributeLength {
+                attribute: "vertex data",
+                per: "input vertex",
+                expected: self.input_vertices as usize,
+                got: values.len(),
+            });
+        }
+        Ok(self.interpolate_with_progress(values, &mut |_, _| {}))
+    }
+
+    /// Interpolation of values known to have the right length.
+    pub(crate) fn interpolate_with_progress<T: Primvar>(
+        &self,
+        values: &[T],
+        progress: &mut dyn FnMut(u32, u32),
+    ) -> Vec<T> {
+        let n = self.levels();
+        let mut cur = refine::interpolate(&self.levels[0], &self.steps[0], values);
+        progress(1, n);
+        for l in 1..n as usize {
+            cur = refine::interpolate(&self.levels[l], &self.steps[l], &cur);
+            progress(l as u32 + 1, n);
+        }
+        cur
+    }
+
+    /// The stencil matrix from input vertices to output vertices.
+    pub fn stencils(&self) -> Stencils {
+        let identity: Vec<SparseRow> = (0..self.input_vertices)
+            .map(|v| SparseRow(vec![(v, 1.0)]))
+            .collect();
+        let rows = self.interpolate_with_progress(&identity, &mut |_, _| {});
+        let mut s = Stencils {
+            offsets: Vec::with_capacity(rows.len() + 1),
+            sources: Vec::new(),
+            weights: Vec::new(),
+        };
+        s.offsets.push(0);
+        for r in rows {
+            for (v, w) in r.0 {
+                s.sources.push(VertexId(v));
+                s.weights.push(w);
+            }
+            s.offsets.push(s.sources.len() as u32);
+        }
+        s
+    }
+
+    /// Interpolates face-varying data (UVs): `values` indexed by `indices`, one index per
+    /// input face corner in [`PolyMesh::corners`] order. Returns one value per output corner,
+    /// in the output mesh's corner order.
+    pub fn refine_face_varying<T: Primvar>(
+        &self,
+        mesh: &PolyMesh,
+        values: &[T],
+        indices: &[u32],
+        mode: FaceVarying,
+    ) -> Result<Vec<T>> {
+        face_varying::refine(self, mesh, values, indices, mode)
+    }
+
+    /// The level-0 and last levels, for face-varying refinement.
+    pub(crate) fn level(&self, l: usize) -> &Level {
+        &self.levels[l]
+    }
+
+    /// The output mesh with the given positions (one per output vertex), carrying the
+    /// creases that remain after refinement.
+    pub fn mesh(&self, positions: Vec<DVec3>) -> PolyMesh {
+        Self::assemble(self.last().clone(), positions)
+    }
+
+    /// [`Refiner::mesh`], consuming the refiner to reuse its arrays.
+    pub fn into_mesh(mut self, positions: Vec<DVec3>) -> PolyMesh {
+        let last = self.levels.pop().expect("a refiner has levels");
+        Self::assemble(last, positions)
+    }
+
+    fn assemble(level: Level, positions: Vec<DVec3>) -> PolyMesh {
+        debug_assert_eq!(positions.len(), level.vertex_count as usize);
+        let edge_sharpness: BTreeMap<(u32, u32), f64> = level
+            .last_creases
+            .iter()
+            .map(|&([a, b], s)| ((a.min(b), a.max(b)), s as f64))
+            .collect();
+        let vertex_sharpness = level
+            .vertex_sharpness
+            .iter()
+            .zip(&level.vertex_forced)
+            .map(|(&s, &forced)| if forced { 0.0 } else { s as f64 })
+            .collect();
+        let corners = level.corner_verts.into_iter().map(VertexId).collect();
+        let mut mesh =
+            PolyMesh::from_parts_unchecked(positions, level.face_loops, level.loop_offsets, corners);
+        mesh.attributes.edge_sharpness = edge_sharpness;
+        mesh.attributes.vertex_sharpness = vertex_sharpness;
+        mesh
+    }
+}

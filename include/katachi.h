@@ -110,6 +110,114 @@ typedef uint32_t KatachiStatus;
 #endif // __cplusplus
 
 /**
+ * How faces with holes are subdivided (`KatachiSubdivideOptions::holes`).
+ */
+enum KatachiHoleMethod
+#if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+  : uint32_t
+#endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+ {
+    /**
+     * Method [a]: bridge the loops, subdivide smoothly (the default).
+     */
+    KATACHI_HOLE_METHOD_SMOOTH = 0,
+    /**
+     * Method [b]: loop edges sharp, the face stays planar with its holes.
+     */
+    KATACHI_HOLE_METHOD_SHARP = 1,
+};
+#ifndef __cplusplus
+#if __STDC_VERSION__ >= 202311L
+typedef enum KatachiHoleMethod KatachiHoleMethod;
+#else
+typedef uint32_t KatachiHoleMethod;
+#endif // __STDC_VERSION__ >= 202311L
+#endif // __cplusplus
+
+/**
+ * Boundary rule (`KatachiSubdivideOptions::boundary`), as OpenSubdiv's.
+ */
+enum KatachiBoundary
+#if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+  : uint32_t
+#endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+ {
+    /**
+     * Boundary edges sharp; corners smoothed along the boundary (the default).
+     */
+    KATACHI_BOUNDARY_EDGE_ONLY = 0,
+    /**
+     * As EDGE_ONLY, and a boundary vertex with a single face is pinned.
+     */
+    KATACHI_BOUNDARY_EDGE_AND_CORNER = 1,
+};
+#ifndef __cplusplus
+#if __STDC_VERSION__ >= 202311L
+typedef enum KatachiBoundary KatachiBoundary;
+#else
+typedef uint32_t KatachiBoundary;
+#endif // __STDC_VERSION__ >= 202311L
+#endif // __cplusplus
+
+/**
+ * Semi-sharp crease rule (`KatachiSubdivideOptions::crease_method`), as OpenSubdiv's.
+ */
+enum KatachiCreaseMethod
+#if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+  : uint32_t
+#endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+ {
+    /**
+     * Sharpness decreases by 1 per level (the default).
+     */
+    KATACHI_CREASE_METHOD_UNIFORM = 0,
+    /**
+     * Chaikin's rule: averaged with neighbouring creases.
+     */
+    KATACHI_CREASE_METHOD_CHAIKIN = 1,
+};
+#ifndef __cplusplus
+#if __STDC_VERSION__ >= 202311L
+typedef enum KatachiCreaseMethod KatachiCreaseMethod;
+#else
+typedef uint32_t KatachiCreaseMethod;
+#endif // __STDC_VERSION__ >= 202311L
+#endif // __cplusplus
+
+/**
+ * Face-varying (UV) interpolation, as OpenSubdiv's linear-interpolation options.
+ */
+enum KatachiFaceVarying
+#if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+  : uint32_t
+#endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+ {
+    /**
+     * Smooth everywhere (Blender's UV Smooth "All").
+     */
+    KATACHI_FACE_VARYING_SMOOTH = 0,
+    /**
+     * Smooth, UV corners pinned (Blender's "Keep Corners").
+     */
+    KATACHI_FACE_VARYING_LINEAR_CORNERS_ONLY = 1,
+    /**
+     * Linear along UV boundaries (Blender's "Keep Boundaries").
+     */
+    KATACHI_FACE_VARYING_LINEAR_BOUNDARIES = 2,
+    /**
+     * Bilinear (Blender's "None").
+     */
+    KATACHI_FACE_VARYING_LINEAR_ALL = 3,
+};
+#ifndef __cplusplus
+#if __STDC_VERSION__ >= 202311L
+typedef enum KatachiFaceVarying KatachiFaceVarying;
+#else
+typedef uint32_t KatachiFaceVarying;
+#endif // __STDC_VERSION__ >= 202311L
+#endif // __cplusplus
+
+/**
  * A polygon mesh whose faces may have holes, with its attributes (edge and vertex
  * sharpness). Opaque: create it with `katachi_mesh_create`, `katachi_mesh_clone` or
  * `katachi_mesh_read`, and free it with `katachi_mesh_free`.
@@ -118,6 +226,12 @@ typedef uint32_t KatachiStatus;
  * a non-const `KatachiMesh*`) must not run concurrently with any other call on the same mesh.
  */
 typedef struct KatachiMesh KatachiMesh;
+
+/**
+ * The result of `katachi_subdivide`: the refined mesh and the hierarchy through which the
+ * caller's vertex data and UVs follow. Opaque; free it with `katachi_subdivision_free`.
+ */
+typedef struct KatachiSubdivision KatachiSubdivision;
 
 /**
  * The sizes of a mesh's arrays, filled in by `katachi_mesh_counts`.
@@ -256,6 +370,75 @@ typedef struct KatachiMeshInfo {
      */
     double bounding_box_max[3];
 } KatachiMeshInfo;
+
+/**
+ * Options of `katachi_subdivide`. Start from `katachi_subdivide_options_default()`.
+ * Enumerated fields are `uint32_t` holding the named constants; other values are rejected.
+ */
+typedef struct KatachiSubdivideOptions {
+    /**
+     * Set by the caller to `sizeof(KatachiSubdivideOptions)`.
+     */
+    uint32_t struct_size;
+    /**
+     * Subdivision levels, 1 to 8. Default 1.
+     */
+    uint32_t levels;
+    /**
+     * A `KatachiHoleMethod`. Default `KATACHI_HOLE_METHOD_SMOOTH`.
+     */
+    uint32_t holes;
+    /**
+     * A `KatachiBoundary`. Default `KATACHI_BOUNDARY_EDGE_ONLY`.
+     */
+    uint32_t boundary;
+    /**
+     * A `KatachiCreaseMethod`. Default `KATACHI_CREASE_METHOD_UNIFORM`.
+     */
+    uint32_t crease_method;
+} KatachiSubdivideOptions;
+
+/**
+ * Summary of a subdivision, filled in by `katachi_subdivision_info`.
+ */
+typedef struct KatachiSubdivisionInfo {
+    /**
+     * Set by the caller to `sizeof(KatachiSubdivisionInfo)`.
+     */
+    uint32_t struct_size;
+    /**
+     * Levels refined.
+     */
+    uint32_t levels;
+    /**
+     * Vertices of the result (`katachi_subdivision_refine_vertex_data` writes this many values).
+     */
+    uint32_t vertex_count;
+    /**
+     * Faces of the result.
+     */
+    uint32_t face_count;
+    /**
+     * Face corners of the result (`katachi_subdivision_refine_face_varying` writes this many).
+     */
+    uint32_t corner_count;
+    /**
+     * Vertices of the input (`katachi_subdivision_refine_vertex_data` reads this many values).
+     */
+    uint32_t input_vertex_count;
+    /**
+     * Face corners of the input (face-varying indices expected).
+     */
+    uint32_t input_corner_count;
+    /**
+     * Faces with holes that method [a] could not bridge and that method [b] refined instead.
+     */
+    uint32_t fallback_face_count;
+    /**
+     * Entries of the stencil matrix (`katachi_subdivision_copy_stencils`).
+     */
+    uint32_t stencil_entry_count;
+} KatachiSubdivisionInfo;
 
 #ifdef __cplusplus
 extern "C" {
@@ -614,6 +797,133 @@ KatachiStatus katachi_mesh_read(const char *path, struct KatachiMesh **out);
  * `mesh` must be NULL or a live handle; `path` NULL or a NUL-terminated string.
  */
 KatachiStatus katachi_mesh_write(const struct KatachiMesh *mesh, const char *path);
+
+/**
+ * A `KatachiSubdivideOptions` holding the defaults (1 level, method [a], edge-only
+ * boundaries, uniform creases) and its `struct_size`.
+ */
+struct KatachiSubdivideOptions katachi_subdivide_options_default(void);
+
+/**
+ * A `KatachiSubdivisionInfo` with its `struct_size` set and counts 0.
+ */
+struct KatachiSubdivisionInfo katachi_subdivision_info_default(void);
+
+/**
+ * Subdivides `mesh` (never changed) and returns the result handle in `*out`.
+ *
+ * Statuses: `KATACHI_STATUS_OK`; `KATACHI_STATUS_NULL_POINTER` (`mesh`, `options` or `out`
+ * NULL); `KATACHI_STATUS_INVALID_ARGUMENT` (a bad option: `struct_size`, an enumerated value,
+ * `levels` outside 1..8); `KATACHI_STATUS_BAD_INPUT` (an empty mesh). On failure `*out` is NULL.
+ *
+ * # Safety
+ * `mesh` NULL or a live handle; `options` NULL or a readable `KatachiSubdivideOptions`;
+ * `out` NULL or writable.
+ */
+KatachiStatus katachi_subdivide(const struct KatachiMesh *mesh,
+                                const struct KatachiSubdivideOptions *options,
+                                struct KatachiSubdivision **out);
+
+/**
+ * Frees a result of `katachi_subdivide`. NULL is allowed and does nothing.
+ *
+ * # Safety
+ * `subdivision` NULL or a live handle, not used afterwards.
+ */
+void katachi_subdivision_free(struct KatachiSubdivision *subdivision);
+
+/**
+ * Fills `*info` with the result's counts. The caller sets `info->struct_size` first.
+ *
+ * # Safety
+ * `subdivision` NULL or a live handle; `info` NULL or writable for `info->struct_size` bytes.
+ */
+KatachiStatus katachi_subdivision_info(const struct KatachiSubdivision *subdivision,
+                                       struct KatachiSubdivisionInfo *info);
+
+/**
+ * A new mesh handle holding the refined mesh (with its remaining creases); the caller frees
+ * it with `katachi_mesh_free`. On failure `*out` is NULL.
+ *
+ * # Safety
+ * `subdivision` NULL or a live handle; `out` NULL or writable.
+ */
+KatachiStatus katachi_subdivision_mesh(const struct KatachiSubdivision *subdivision,
+                                       struct KatachiMesh **out);
+
+/**
+ * Copies, for each face of the result, the input face it comes from (materials and face data
+ * follow it): `face_count` values (see `katachi_subdivision_info`).
+ *
+ * # Safety
+ * `subdivision` NULL or a live handle; `faces` NULL or writable for `capacity` values.
+ */
+KatachiStatus katachi_subdivision_copy_face_origin(const struct KatachiSubdivision *subdivision,
+                                                   uint32_t *faces,
+                                                   size_t capacity);
+
+/**
+ * Copies the faces with holes that method [a] could not bridge (refined with method [b]
+ * instead): `fallback_face_count` input face ids.
+ *
+ * # Safety
+ * `subdivision` NULL or a live handle; `faces` NULL or writable for `capacity` values.
+ */
+KatachiStatus katachi_subdivision_copy_fallback_faces(const struct KatachiSubdivision *subdivision,
+                                                      uint32_t *faces,
+                                                      size_t capacity);
+
+/**
+ * Interpolates per-vertex data (colours, weights, any `components` doubles per vertex) with
+ * the subdivision rules: reads `input_vertex_count × components` doubles (vertex after
+ * vertex), writes `vertex_count × components`.
+ *
+ * # Safety
+ * `subdivision` NULL or a live handle; `values` NULL or readable for `value_count` doubles;
+ * `out` NULL or writable for `capacity` doubles.
+ */
+KatachiStatus katachi_subdivision_refine_vertex_data(const struct KatachiSubdivision *subdivision,
+                                                     const double *values,
+                                                     size_t value_count,
+                                                     uint32_t components,
+                                                     double *out,
+                                                     size_t capacity);
+
+/**
+ * Interpolates face-varying data (UVs): `values` holds `value_count / components` values of
+ * `components` doubles, `indices` one value index per input face corner (in the corner
+ * order of `katachi_mesh_copy_faces`); writes `corner_count × components` doubles, one value
+ * per result corner, with the interpolation `mode` (a `KatachiFaceVarying`).
+ *
+ * # Safety
+ * `subdivision` NULL or a live handle; `values`, `indices` NULL or readable for their counts;
+ * `out` NULL or writable for `capacity` doubles.
+ */
+KatachiStatus katachi_subdivision_refine_face_varying(const struct KatachiSubdivision *subdivision,
+                                                      const double *values,
+                                                      size_t value_count,
+                                                      uint32_t components,
+                                                      const uint32_t *indices,
+                                                      size_t index_count,
+                                                      uint32_t mode,
+                                                      double *out,
+                                                      size_t capacity);
+
+/**
+ * Copies the stencil matrix (result vertex i = Σ weights × input vertices) in compressed
+ * rows: `offsets` gets `vertex_count + 1` values, `sources` and `weights` each
+ * `stencil_entry_count` (see `katachi_subdivision_info`).
+ *
+ * # Safety
+ * `subdivision` NULL or a live handle; each buffer NULL or writable for its capacity.
+ */
+KatachiStatus katachi_subdivision_copy_stencils(const struct KatachiSubdivision *subdivision,
+                                                uint32_t *offsets,
+                                                size_t offsets_capacity,
+                                                uint32_t *sources,
+                                                size_t sources_capacity,
+                                                double *weights,
+                                                size_t weights_capacity);
 
 #ifdef __cplusplus
 }  // extern "C"

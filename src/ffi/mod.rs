@@ -30,8 +30,11 @@ pub mod inspect;
 
 pub mod io;
 
+pub mod subdivide;
+
 pub use inspect::*;
 pub use io::*;
 pub use mesh::*;
 pub use status::*;
+pub use subdivide::*;
 pub use version::*;

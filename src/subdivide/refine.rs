@@ -11,7 +11,9 @@
 //! Child numbering (OpenSubdiv's default for uniform refinement): vertices are the children
 //! of vertices, then of faces, then of edges; edges are the face-interior edges (corner
 //! order), then the two halves of each parent edge; faces are the children of each face in
-//! corner order, a quad `(vertex, next edge, face, previous edge)` per corner.
+//! corner order, a quad `(vertex, next edge, face, previous edge)` per corner, rotated for
+//! quads so that child j has its parent corner at position j; child edges run from the
+//! face point or edge point outwards.
 
 // Loops index several parallel arrays by the same face or corner; iterators would hide that.
 #![allow(clippy::needless_range_loop)]
@@ -323,16 +325,25 @@ pub(crate) fn child_level(parent: &Level, step: &Step, last: bool) -> Level {
                 let v = parent.corner_verts[c];
                 let (e, ep) = (parent.corner_edges[c], parent.corner_edges[prev]);
                 let q = 4 * (i + j);
-                child.corner_verts[q..q + 4].copy_from_slice(&[v, ev(e), fv(f), ev(ep)]);
+                // OpenSubdiv rotates a quad's children so that child j has its parent
+                // corner at position j; other polygons' children start at the corner.
+                let r = if k == 4 { j } else { 0 };
+                let verts = [v, ev(e), fv(f), ev(ep)];
+                for (t, &x) in verts.iter().enumerate() {
+                    child.corner_verts[q + (t + r) % 4] = x;
+                }
                 child.face_origin[i + j] = origin;
                 if !last {
-                    child.corner_edges[q..q + 4].copy_from_slice(&[
+                    let edges = [
                         half(e, v),
                         (i + j) as u32,
                         (i + (j + k - 1) % k) as u32,
                         half(ep, v),
-                    ]);
-                    interior[i + j] = [ev(e), fv(f)];
+                    ];
+                    for (t, &x) in edges.iter().enumerate() {
+                        child.corner_edges[q + (t + r) % 4] = x;
+                    }
+                    interior[i + j] = [fv(f), ev(e)];
                 }
             }
             i += k;
@@ -346,7 +357,10 @@ pub(crate) fn child_level(parent: &Level, step: &Step, last: bool) -> Level {
             let origin = parent.face_origin[f];
             if parent.is_kept(f) {
                 // Kept face: one child face, each loop refined (every loop edge split in two).
-                let (l0, l1) = (parent.face_loops[f] as usize, parent.face_loops[f + 1] as usize);
+                let (l0, l1) = (
+                    parent.face_loops[f] as usize,
+                    parent.face_loops[f + 1] as usize,
+                );
                 for l in l0..l1 {
                     let (a, b) = (
                         parent.loop_offsets[l] as usize,
@@ -376,31 +390,33 @@ pub(crate) fn child_level(parent: &Level, step: &Step, last: bool) -> Level {
                 let prev = if c == cs.start { cs.end - 1 } else { c - 1 };
                 let v = parent.corner_verts[c];
                 let (e, ep) = (parent.corner_edges[c], parent.corner_edges[prev]);
-                child
-                    .corner_verts
-                    .extend_from_slice(&[v, ev(e), fv(f), ev(ep)]);
-                child.corner_edges.extend_from_slice(&[
-                    half(e, v),
-                    base + j,
-                    base + (j + k - 1) % k,
-                    half(ep, v),
-                ]);
+                let mut verts = [v, ev(e), fv(f), ev(ep)];
+                let mut edges = [half(e, v), base + j, base + (j + k - 1) % k, half(ep, v)];
+                if k == 4 {
+                    verts.rotate_right(j as usize);
+                    edges.rotate_right(j as usize);
+                }
+                child.corner_verts.extend_from_slice(&verts);
+                child.corner_edges.extend_from_slice(&edges);
                 child.loop_offsets.push(child.corner_verts.len() as u32);
                 child.face_loops.push(child.loop_offsets.len() as u32 - 1);
                 child.face_kept.push(false);
                 child.face_origin.push(origin);
             }
             for c in cs {
-                interior.push([ev(parent.corner_edges[c]), fv(f)]);
+                interior.push([fv(f), ev(parent.corner_edges[c])]);
             }
         }
     }
 
     let n = child.vertex_count as usize;
     child.vertex_sharpness = Vec::with_capacity(n);
-    child
-        .vertex_sharpness
-        .extend(parent.vertex_sharpness.iter().map(|&s| crease::decrement(s)));
+    child.vertex_sharpness.extend(
+        parent
+            .vertex_sharpness
+            .iter()
+            .map(|&s| crease::decrement(s)),
+    );
     child.vertex_sharpness.resize(n, 0.0);
     child.vertex_forced = parent.vertex_forced.clone();
     child.vertex_forced.resize(n, false);
@@ -432,8 +448,10 @@ pub(crate) fn child_level(parent: &Level, step: &Step, last: bool) -> Level {
     child.edge_forced.reserve(2 * ne);
     for (e, &[a, b]) in parent.edge_verts.iter().enumerate() {
         let m = ev(e as u32);
-        child.edge_verts.extend_from_slice(&[[a, m], [m, b]]);
-        child.edge_sharpness.extend_from_slice(&step.child_sharpness[e]);
+        child.edge_verts.extend_from_slice(&[[m, a], [m, b]]);
+        child
+            .edge_sharpness
+            .extend_from_slice(&step.child_sharpness[e]);
         let forced = parent.edge_forced[e];
         child.edge_forced.extend_from_slice(&[forced, forced]);
     }

@@ -225,8 +225,12 @@ impl Refiner {
             .map(|(&s, &forced)| if forced { 0.0 } else { s as f64 })
             .collect();
         let corners = level.corner_verts.into_iter().map(VertexId).collect();
-        let mut mesh =
-            PolyMesh::from_parts_unchecked(positions, level.face_loops, level.loop_offsets, corners);
+        let mut mesh = PolyMesh::from_parts_unchecked(
+            positions,
+            level.face_loops,
+            level.loop_offsets,
+            corners,
+        );
         mesh.attributes.edge_sharpness = edge_sharpness;
         mesh.attributes.vertex_sharpness = vertex_sharpness;
         mesh

@@ -16,6 +16,22 @@ pub const PACKAGES: &[(&str, &str)] = &[
         "pkg-config",
         "building C programs against the installed library",
     ),
+    (
+        "libosd-dev",
+        "OpenSubdiv 3.5 (Far), the reference for subdivision in tests/reference",
+    ),
+    (
+        "libopenmesh-dev",
+        "OpenMesh 9 (CatmullClarkT), the second reference in tests/reference",
+    ),
+    (
+        "libclang-dev",
+        "bindgen generates tests/reference's bindings with libclang",
+    ),
+    (
+        "clang",
+        "clang's resource headers (stddef.h, stdint.h) for bindgen in tests/reference",
+    ),
 ];
 
 fn installed(pkg: &str) -> bool {

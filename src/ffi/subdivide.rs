@@ -1,0 +1,527 @@
+//! `katachi_subdivide`: solid-aware Catmull-Clark subdivision (seed 001) through the C ABI,
+//! its options, the result handle, and interpolation of the caller's data through it.
+//! Conversion and error mapping only; the work is [`crate::subdivide`]'s.
+
+use super::boundary::{
+    deref, guard, guard_value, out_buffer, slice, write_sized, FfiError, FfiResult,
+};
+use super::mesh::{mesh_ref, KatachiMesh};
+use super::status::KatachiStatus;
+use crate::mesh::PolyMesh;
+use crate::subdivide::{
+    BoundaryInterpolation, CreaseMethod, FaceVarying, HoleMethod, Refiner, Stencils,
+    SubdivideOptions,
+};
+
+/// How faces with holes are subdivided (`KatachiSubdivideOptions::holes`).
+#[repr(u32)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum KatachiHoleMethod {
+    /// Method [a]: bridge the loops, subdivide smoothly (the default).
+    Smooth = 0,
+    /// Method [b]: loop edges sharp, the face stays planar with its holes.
+    Sharp = 1,
+}
+
+/// Boundary rule (`KatachiSubdivideOptions::boundary`), as OpenSubdiv's.
+#[repr(u32)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum KatachiBoundary {
+    /// Boundary edges sharp; corners smoothed along the boundary (the default).
+    EdgeOnly = 0,
+    /// As EDGE_ONLY, and a boundary vertex with a single face is pinned.
+    EdgeAndCorner = 1,
+}
+
+/// Semi-sharp crease rule (`KatachiSubdivideOptions::crease_method`), as OpenSubdiv's.
+#[repr(u32)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum KatachiCreaseMethod {
+    /// Sharpness decreases by 1 per level (the default).
+    Uniform = 0,
+    /// Chaikin's rule: averaged with neighbouring creases.
+    Chaikin = 1,
+}
+
+/// Face-varying (UV) interpolation, as OpenSubdiv's linear-interpolation options.
+#[repr(u32)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum KatachiFaceVarying {
+    /// Smooth everywhere (Blender's UV Smooth "All").
+    Smooth = 0,
+    /// Smooth, UV corners pinned (Blender's "Keep Corners").
+    LinearCornersOnly = 1,
+    /// Linear along UV boundaries (Blender's "Keep Boundaries").
+    LinearBoundaries = 2,
+    /// Bilinear (Blender's "None").
+    LinearAll = 3,
+}
+
+/// Options of `katachi_subdivide`. Start from `katachi_subdivide_options_default()`.
+/// Enumerated fields are `uint32_t` holding the named constants; other values are rejected.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct KatachiSubdivideOptions {
+    /// Set by the caller to `sizeof(KatachiSubdivideOptions)`.
+    pub struct_size: u32,
+    /// Subdivision levels, 1 to 8. Default 1.
+    pub levels: u32,
+    /// A `KatachiHoleMethod`. Default `KATACHI_HOLE_METHOD_SMOOTH`.
+    pub holes: u32,
+    /// A `KatachiBoundary`. Default `KATACHI_BOUNDARY_EDGE_ONLY`.
+    pub boundary: u32,
+    /// A `KatachiCreaseMethod`. Default `KATACHI_CREASE_METHOD_UNIFORM`.
+    pub crease_method: u32,
+}
+
+const OPTIONS_MIN_SIZE: usize = std::mem::size_of::<KatachiSubdivideOptions>();
+
+const OPTIONS_DEFAULT: KatachiSubdivideOptions = KatachiSubdivideOptions {
+    struct_size: std::mem::size_of::<KatachiSubdivideOptions>() as u32,
+    levels: 1,
+    holes: KatachiHoleMethod::Smooth as u32,
+    boundary: KatachiBoundary::EdgeOnly as u32,
+    crease_method: KatachiCreaseMethod::Uniform as u32,
+};
+
+/// Summary of a subdivision, filled in by `katachi_subdivision_info`.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct KatachiSubdivisionInfo {
+    /// Set by the caller to `sizeof(KatachiSubdivisionInfo)`.
+    pub struct_size: u32,
+    /// Levels refined.
+    pub levels: u32,
+    /// Vertices of the result (`katachi_subdivision_refine_vertex_data` writes this many values).
+    pub vertex_count: u32,
+    /// Faces of the result.
+    pub face_count: u32,
+    /// Face corners of the result (`katachi_subdivision_refine_face_varying` writes this many).
+    pub corner_count: u32,
+    /// Vertices of the input (`katachi_subdivision_refine_vertex_data` reads this many values).
+    pub input_vertex_count: u32,
+    /// Face corners of the input (face-varying indices expected).
+    pub input_corner_count: u32,
+    /// Faces with holes that method [a] could not bridge and that method [b] refined instead.
+    pub fallback_face_count: u32,
+    /// Entries of the stencil matrix (`katachi_subdivision_copy_stencils`).
+    pub stencil_entry_count: u32,
+}
+
+const INFO_MIN_SIZE: usize = std::mem::size_of::<KatachiSubdivisionInfo>();
+
+const INFO_DEFAULT: KatachiSubdivisionInfo = KatachiSubdivisionInfo {
+    struct_size: std::mem::size_of::<KatachiSubdivisionInfo>() as u32,
+    levels: 0,
+    vertex_count: 0,
+    face_count: 0,
+    corner_count: 0,
+    input_vertex_count: 0,
+    input_corner_count: 0,
+    fallback_face_count: 0,
+    stencil_entry_count: 0,
+};
+
+/// The result of `katachi_subdivide`: the refined mesh and the hierarchy through which the
+/// caller's vertex data and UVs follow. Opaque; free it with `katachi_subdivision_free`.
+pub struct KatachiSubdivision {
+    input: PolyMesh,
+    refiner: Refiner,
+    mesh: PolyMesh,
+    stencils: std::sync::OnceLock<Stencils>,
+}
+
+/// A `KatachiSubdivideOptions` holding the defaults (1 level, method [a], edge-only
+/// boundaries, uniform creases) and its `struct_size`.
+#[no_mangle]
+pub extern "C" fn katachi_subdivide_options_default() -> KatachiSubdivideOptions {
+    guard_value("katachi_subdivide_options_default", OPTIONS_DEFAULT, || {
+        OPTIONS_DEFAULT
+    })
+}
+
+/// A `KatachiSubdivisionInfo` with its `struct_size` set and counts 0.
+#[no_mangle]
+pub extern "C" fn katachi_subdivision_info_default() -> KatachiSubdivisionInfo {
+    guard_value("katachi_subdivision_info_default", INFO_DEFAULT, || {
+        INFO_DEFAULT
+    })
+}
+
+fn options_from(o: &KatachiSubdivideOptions) -> FfiResult<SubdivideOptions> {
+    if (o.struct_size as usize) < OPTIONS_MIN_SIZE {
+        return Err(FfiError::invalid(format!(
+            "options->struct_size is {}, but KatachiSubdivideOptions needs at least {OPTIONS_MIN_SIZE} \
+             (start from katachi_subdivide_options_default())",
+            o.struct_size
+        )));
+    }
+    let bad = |field: &str, v: u32, allowed: &str| {
+        FfiError::invalid(format!(
+            "options->{field} is {v}, which is not one of {allowed}"
+        ))
+    };
+    let mut s = SubdivideOptions::with_levels(o.levels);
+    s.holes = match o.holes {
+        0 => HoleMethod::Smooth,
+        1 => HoleMethod::Sharp,
+        v => {
+            return Err(bad(
+                "holes",
+                v,
+                "KATACHI_HOLE_METHOD_SMOOTH (0), KATACHI_HOLE_METHOD_SHARP (1)",
+            ))
+        }
+    };
+    s.boundary = match o.boundary {
+        0 => BoundaryInterpolation::EdgeOnly,
+        1 => BoundaryInterpolation::EdgeAndCorner,
+        v => {
+            return Err(bad(
+                "boundary",
+                v,
+                "KATACHI_BOUNDARY_EDGE_ONLY (0), KATACHI_BOUNDARY_EDGE_AND_CORNER (1)",
+            ))
+        }
+    };
+    s.crease_method = match o.crease_method {
+        0 => CreaseMethod::Uniform,
+        1 => CreaseMethod::Chaikin,
+        v => {
+            return Err(bad(
+                "crease_method",
+                v,
+                "KATACHI_CREASE_METHOD_UNIFORM (0), KATACHI_CREASE_METHOD_CHAIKIN (1)",
+            ))
+        }
+    };
+    Ok(s)
+}
+
+/// Subdivides `mesh` (never changed) and returns the result handle in `*out`.
+///
+/// Statuses: `KATACHI_STATUS_OK`; `KATACHI_STATUS_NULL_POINTER` (`mesh`, `options` or `out`
+/// NULL); `KATACHI_STATUS_INVALID_ARGUMENT` (a bad option: `struct_size`, an enumerated value,
+/// `levels` outside 1..8); `KATACHI_STATUS_BAD_INPUT` (an empty mesh). On failure `*out` is NULL.
+///
+/// # Safety
+/// `mesh` NULL or a live handle; `options` NULL or a readable `KatachiSubdivideOptions`;
+/// `out` NULL or writable.
+#[no_mangle]
+pub unsafe extern "C" fn katachi_subdivide(
+    mesh: *const KatachiMesh,
+    options: *const KatachiSubdivideOptions,
+    out: *mut *mut KatachiSubdivision,
+) -> KatachiStatus {
+    guard("katachi_subdivide", || {
+        // SAFETY: the caller's promises above.
+        let out = unsafe { super::boundary::deref_mut(out, "out") }?;
+        *out = std::ptr::null_mut();
+        let mesh = unsafe { mesh_ref(mesh) }?;
+        let options = options_from(unsafe { deref(options, "options") }?)?;
+        let refiner = Refiner::new(mesh, &options)?;
+        let positions = refiner.refine_vertex_data(mesh.positions())?;
+        let result = KatachiSubdivision {
+            input: mesh.clone(),
+            mesh: refiner.mesh(positions),
+            refiner,
+            stencils: std::sync::OnceLock::new(),
+        };
+        *out = Box::into_raw(Box::new(result));
+        Ok(())
+    })
+}
+
+/// Frees a result of `katachi_subdivide`. NULL is allowed and does nothing.
+///
+/// # Safety
+/// `subdivision` NULL or a live handle, not used afterwards.
+#[no_mangle]
+pub unsafe extern "C" fn katachi_subdivision_free(subdivision: *mut KatachiSubdivision) {
+    guard_value("katachi_subdivision_free", (), || {
+        if !subdivision.is_null() {
+            // SAFETY: a live handle from katachi_subdivide (the caller's promise).
+            drop(unsafe { Box::from_raw(subdivision) });
+        }
+    })
+}
+
+/// # Safety
+/// A non-NULL `p` must be a live handle.
+unsafe fn sub_ref<'a>(p: *const KatachiSubdivision) -> FfiResult<&'a KatachiSubdivision> {
+    // SAFETY: forwarded to the caller.
+    unsafe { deref(p, "subdivision") }
+}
+
+/// Fills `*info` with the result's counts. The caller sets `info->struct_size` first.
+///
+/// # Safety
+/// `subdivision` NULL or a live handle; `info` NULL or writable for `info->struct_size` bytes.
+#[no_mangle]
+pub unsafe extern "C" fn katachi_subdivision_info(
+    subdivision: *const KatachiSubdivision,
+    info: *mut KatachiSubdivisionInfo,
+) -> KatachiStatus {
+    guard("katachi_subdivision_info", || {
+        // SAFETY: the caller's promises above.
+        let s = unsafe { sub_ref(subdivision) }?;
+        super::boundary::check_ptr(info, "info")?;
+        let value = KatachiSubdivisionInfo {
+            struct_size: 0,
+            levels: s.refiner.levels(),
+            vertex_count: s.mesh.vertex_count(),
+            face_count: s.mesh.face_count(),
+            corner_count: s.mesh.corner_count(),
+            input_vertex_count: s.input.vertex_count(),
+            input_corner_count: s.input.corner_count(),
+            fallback_face_count: s.refiner.report().fell_back_to_sharp.len() as u32,
+            stencil_entry_count: s
+                .stencils
+                .get_or_init(|| s.refiner.stencils())
+                .weights
+                .len() as u32,
+        };
+        unsafe { write_sized(info, value, INFO_MIN_SIZE, "info", "KatachiSubdivisionInfo") }
+    })
+}
+
+/// A new mesh handle holding the refined mesh (with its remaining creases); the caller frees
+/// it with `katachi_mesh_free`. On failure `*out` is NULL.
+///
+/// # Safety
+/// `subdivision` NULL or a live handle; `out` NULL or writable.
+#[no_mangle]
+pub unsafe extern "C" fn katachi_subdivision_mesh(
+    subdivision: *const KatachiSubdivision,
+    out: *mut *mut KatachiMesh,
+) -> KatachiStatus {
+    guard("katachi_subdivision_mesh", || {
+        // SAFETY: the caller's promises above.
+        let out = unsafe { super::mesh::reset_out(out) }?;
+        let s = unsafe { sub_ref(subdivision) }?;
+        *out = KatachiMesh::into_raw(s.mesh.clone());
+        Ok(())
+    })
+}
+
+/// Copies, for each face of the result, the input face it comes from (materials and face data
+/// follow it): `face_count` values (see `katachi_subdivision_info`).
+///
+/// # Safety
+/// `subdivision` NULL or a live handle; `faces` NULL or writable for `capacity` values.
+#[no_mangle]
+pub unsafe extern "C" fn katachi_subdivision_copy_face_origin(
+    subdivision: *const KatachiSubdivision,
+    faces: *mut u32,
+    capacity: usize,
+) -> KatachiStatus {
+    guard("katachi_subdivision_copy_face_origin", || {
+        // SAFETY: the caller's promises above.
+        let s = unsafe { sub_ref(subdivision) }?;
+        let origin = s.refiner.face_origin();
+        let buf = unsafe {
+            out_buffer(
+                faces,
+                capacity,
+                origin.len(),
+                "faces",
+                &"one per result face",
+            )
+        }?;
+        for (o, f) in buf.iter_mut().zip(origin) {
+            *o = f.0;
+        }
+        Ok(())
+    })
+}
+
+/// Copies the faces with holes that method [a] could not bridge (refined with method [b]
+/// instead): `fallback_face_count` input face ids.
+///
+/// # Safety
+/// `subdivision` NULL or a live handle; `faces` NULL or writable for `capacity` values.
+#[no_mangle]
+pub unsafe extern "C" fn katachi_subdivision_copy_fallback_faces(
+    subdivision: *const KatachiSubdivision,
+    faces: *mut u32,
+    capacity: usize,
+) -> KatachiStatus {
+    guard("katachi_subdivision_copy_fallback_faces", || {
+        // SAFETY: the caller's promises above.
+        let s = unsafe { sub_ref(subdivision) }?;
+        let fb = &s.refiner.report().fell_back_to_sharp;
+        let buf =
+            unsafe { out_buffer(faces, capacity, fb.len(), "faces", &"one per fallback face") }?;
+        for (o, (f, _)) in buf.iter_mut().zip(fb) {
+            *o = f.0;
+        }
+        Ok(())
+    })
+}
+
+fn check_components(components: u32) -> FfiResult<usize> {
+    if components == 0 || components > 64 {
+        return Err(FfiError::invalid(format!(
+            "components is {components}; it must be 1 to 64"
+        )));
+    }
+    Ok(components as usize)
+}
+
+/// Interpolates per-vertex data (colours, weights, any `components` doubles per vertex) with
+/// the subdivision rules: reads `input_vertex_count × components` doubles (vertex after
+/// vertex), writes `vertex_count × components`.
+///
+/// # Safety
+/// `subdivision` NULL or a live handle; `values` NULL or readable for `value_count` doubles;
+/// `out` NULL or writable for `capacity` doubles.
+#[no_mangle]
+pub unsafe extern "C" fn katachi_subdivision_refine_vertex_data(
+    subdivision: *const KatachiSubdivision,
+    values: *const f64,
+    value_count: usize,
+    components: u32,
+    out: *mut f64,
+    capacity: usize,
+) -> KatachiStatus {
+    guard("katachi_subdivision_refine_vertex_data", || {
+        // SAFETY: the caller's promises above.
+        let s = unsafe { sub_ref(subdivision) }?;
+        let k = check_components(components)?;
+        let nin = s.input.vertex_count() as usize * k;
+        if value_count != nin {
+            return Err(FfiError::invalid(format!(
+                "value_count is {value_count}, but the input has {} vertices × {k} components = {nin}",
+                s.input.vertex_count()
+            )));
+        }
+        let values = unsafe { slice(values, value_count, "values", &"value_count > 0") }?;
+        let nout = s.mesh.vertex_count() as usize * k;
+        let buf =
+            unsafe { out_buffer(out, capacity, nout, "out", &"result vertices × components") }?;
+        for c in 0..k {
+            let column: Vec<f64> = values.iter().skip(c).step_by(k).copied().collect();
+            let refined = s.refiner.refine_vertex_data(&column)?;
+            for (i, v) in refined.into_iter().enumerate() {
+                buf[i * k + c] = v;
+            }
+        }
+        Ok(())
+    })
+}
+
+/// Interpolates face-varying data (UVs): `values` holds `value_count / components` values of
+/// `components` doubles, `indices` one value index per input face corner (in the corner
+/// order of `katachi_mesh_copy_faces`); writes `corner_count × components` doubles, one value
+/// per result corner, with the interpolation `mode` (a `KatachiFaceVarying`).
+///
+/// # Safety
+/// `subdivision` NULL or a live handle; `values`, `indices` NULL or readable for their counts;
+/// `out` NULL or writable for `capacity` doubles.
+#[no_mangle]
+pub unsafe extern "C" fn katachi_subdivision_refine_face_varying(
+    subdivision: *const KatachiSubdivision,
+    values: *const f64,
+    value_count: usize,
+    components: u32,
+    indices: *const u32,
+    index_count: usize,
+    mode: u32,
+    out: *mut f64,
+    capacity: usize,
+) -> KatachiStatus {
+    guard("katachi_subdivision_refine_face_varying", || {
+        // SAFETY: the caller's promises above.
+        let s = unsafe { sub_ref(subdivision) }?;
+        let k = check_components(components)?;
+        if value_count % k != 0 {
+            return Err(FfiError::invalid(format!(
+                "value_count {value_count} is not a multiple of components ({k})"
+            )));
+        }
+        let mode = match mode {
+            0 => FaceVarying::Smooth,
+            1 => FaceVarying::LinearCornersOnly,
+            2 => FaceVarying::LinearBoundaries,
+            3 => FaceVarying::LinearAll,
+            v => {
+                return Err(FfiError::invalid(format!(
+                    "mode is {v}, which is not a KatachiFaceVarying (0 to 3)"
+                )))
+            }
+        };
+        let values = unsafe { slice(values, value_count, "values", &"value_count > 0") }?;
+        let indices = unsafe { slice(indices, index_count, "indices", &"index_count > 0") }?;
+        let nout = s.mesh.corner_count() as usize * k;
+        let buf =
+            unsafe { out_buffer(out, capacity, nout, "out", &"result corners × components") }?;
+        let mut result = vec![0.0; nout];
+        for c in 0..k {
+            let column: Vec<f64> = values.iter().skip(c).step_by(k).copied().collect();
+            let refined = s
+                .refiner
+                .refine_face_varying(&s.input, &column, indices, mode)?;
+            for (i, v) in refined.into_iter().enumerate() {
+                result[i * k + c] = v;
+            }
+        }
+        buf.copy_from_slice(&result);
+        Ok(())
+    })
+}
+
+/// Copies the stencil matrix (result vertex i = Σ weights × input vertices) in compressed
+/// rows: `offsets` gets `vertex_count + 1` values, `sources` and `weights` each
+/// `stencil_entry_count` (see `katachi_subdivision_info`).
+///
+/// # Safety
+/// `subdivision` NULL or a live handle; each buffer NULL or writable for its capacity.
+#[no_mangle]
+pub unsafe extern "C" fn katachi_subdivision_copy_stencils(
+    subdivision: *const KatachiSubdivision,
+    offsets: *mut u32,
+    offsets_capacity: usize,
+    sources: *mut u32,
+    sources_capacity: usize,
+    weights: *mut f64,
+    weights_capacity: usize,
+) -> KatachiStatus {
+    guard("katachi_subdivision_copy_stencils", || {
+        // SAFETY: the caller's promises above.
+        let s = unsafe { sub_ref(subdivision) }?;
+        let st = s.stencils.get_or_init(|| s.refiner.stencils());
+        let o = unsafe {
+            out_buffer(
+                offsets,
+                offsets_capacity,
+                st.offsets.len(),
+                "offsets",
+                &"result vertices + 1",
+            )
+        }?;
+        let so = unsafe {
+            out_buffer(
+                sources,
+                sources_capacity,
+                st.sources.len(),
+                "sources",
+                &"stencil entries",
+            )
+        }?;
+        let w = unsafe {
+            out_buffer(
+                weights,
+                weights_capacity,
+                st.weights.len(),
+                "weights",
+                &"stencil entries",
+            )
+        }?;
+        o.copy_from_slice(&st.offsets);
+        for (d, v) in so.iter_mut().zip(&st.sources) {
+            *d = v.0;
+        }
+        w.copy_from_slice(&st.weights);
+        Ok(())
+    })
+}

@@ -148,3 +148,44 @@ impl AllQuads for katachi::PolyMesh {
         self.faces().all(|f| self.face_outer(f).len() == 4)
     }
 }
+
+#[test]
+fn stencils_and_vertex_data_follow_the_positions() {
+    use katachi::subdivide::Refiner;
+    let mut m = shapes::ngon_prism(5, 1.0, 2.0);
+    m.set_edge_sharpness(VertexId(0), VertexId(1), 1.5).unwrap();
+    for levels in 1..=3 {
+        let o = SubdivideOptions::with_levels(levels);
+        let out = catmull_clark(&m, &o).unwrap();
+        let r = Refiner::new(&m, &o).unwrap();
+        let st = r.stencils();
+        assert_eq!(st.offsets.len() as u32, out.mesh.vertex_count() + 1);
+        let via_stencils = st.apply(m.positions());
+        for (a, b) in via_stencils.iter().zip(out.mesh.positions()) {
+            assert!((*a - *b).length() < 1e-13, "{a} vs {b}");
+        }
+        // Each row is an affine combination (weights sum to 1).
+        for w in st.offsets.windows(2) {
+            let s: f64 = st.weights[w[0] as usize..w[1] as usize].iter().sum();
+            assert!((s - 1.0).abs() < 1e-12);
+        }
+        // Scalar data refine like the x coordinate.
+        let xs: Vec<f64> = m.positions().iter().map(|p| p.x).collect();
+        let rx = r.refine_vertex_data(&xs).unwrap();
+        for (a, b) in rx.iter().zip(out.mesh.positions()) {
+            assert!((a - b.x).abs() < 1e-13);
+        }
+        assert!(
+            r.refine_vertex_data(&xs[1..]).is_err(),
+            "wrong length is an error"
+        );
+    }
+}
+
+#[test]
+fn deterministic_bits() {
+    let m = shapes::torus(20, 12, 2.0, 0.5);
+    let a = catmull_clark(&m, &SubdivideOptions::with_levels(2)).unwrap();
+    let b = catmull_clark(&m, &SubdivideOptions::with_levels(2)).unwrap();
+    assert_eq!(a.mesh, b.mesh);
+}

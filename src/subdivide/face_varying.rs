@@ -104,13 +104,20 @@ fn bilinear<T: Primvar>(refiner: &Refiner, values: &[T], indices: &[u32]) -> Vec
             for c in cs.clone() {
                 centre.add_scaled(&cur[c], w);
             }
-            for c in cs.clone() {
+            let k = cs.len();
+            for (j, c) in cs.clone().enumerate() {
                 let n = if c + 1 < cs.end { c + 1 } else { cs.start };
                 let p = if c == cs.start { cs.end - 1 } else { c - 1 };
-                next.push(cur[c].clone());
-                next.push(mid(&cur[c], &cur[n]));
-                next.push(centre.clone());
-                next.push(mid(&cur[p], &cur[c]));
+                let mut quad = [
+                    cur[c].clone(),
+                    mid(&cur[c], &cur[n]),
+                    centre.clone(),
+                    mid(&cur[p], &cur[c]),
+                ];
+                if k == 4 {
+                    quad.rotate_right(j); // as the child faces (see refine.rs)
+                }
+                next.extend(quad);
             }
         }
         cur = next;

@@ -21,9 +21,11 @@ mod refiner;
 pub mod regions;
 
 pub use face_varying::FaceVarying;
+pub use features::{feature_edges, tag_feature_edges};
 pub use options::{BoundaryInterpolation, CreaseMethod, HoleMethod, SubdivideOptions};
 pub use primvar::{Primvar, SparseRow};
 pub use refiner::{Refiner, Stencils};
+pub use regions::{merge_coplanar_regions, MergeOptions, Merged};
 
 use glam::DVec3;
 

@@ -301,3 +301,93 @@ fn openmesh_agrees_on_closed_meshes_and_differs_on_boundaries() {
         near[2]
     );
 }
+
+/// A torus with a UV map whose seams run along one meridian and one parallel: UV vertex
+/// (i, j) for i in 0..=m, j in 0..=n, so the seam corners are UV boundaries.
+fn uv_torus(m: u32, n: u32) -> (PolyMesh, Vec<[f64; 2]>, Vec<u32>) {
+    let mesh = shapes::torus(m, n, 2.0, 0.5);
+    let uv: Vec<[f64; 2]> = (0..=m)
+        .flat_map(|i| (0..=n).map(move |j| [i as f64 / m as f64, j as f64 / n as f64]))
+        .collect();
+    let id = |i: u32, j: u32| i * (n + 1) + j;
+    let mut idx = Vec::new();
+    for i in 0..m {
+        for j in 0..n {
+            idx.extend([id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)]);
+        }
+    }
+    (mesh, uv, idx)
+}
+
+#[test]
+fn face_varying_matches_opensubdiv() {
+    use katachi::subdivide::{FaceVarying, Refiner};
+    let (torus, uv, idx) = uv_torus(8, 6);
+    let mut creased = torus.clone();
+    creased
+        .set_edge_sharpnesses([
+            (VertexId(0), VertexId(1), 2.0),
+            (VertexId(1), VertexId(2), 2.0),
+        ])
+        .unwrap();
+    // An open grid with a UV map equal to its xy coordinates (UV boundary = mesh boundary).
+    let grid = shapes::grid(3, 2);
+    let guv: Vec<[f64; 2]> = grid
+        .positions()
+        .iter()
+        .map(|p| [p.x * 0.3, p.y * 0.5])
+        .collect();
+    let gidx: Vec<u32> = grid.corners().iter().map(|v| v.0).collect();
+    let cases = [
+        ("uv torus", &torus, &uv, &idx),
+        ("creased uv torus", &creased, &uv, &idx),
+        ("grid", &grid, &guv, &gidx),
+    ];
+    let modes = [
+        (FaceVarying::Smooth, r::FVarLinear::None),
+        (FaceVarying::LinearCornersOnly, r::FVarLinear::CornersOnly),
+        (FaceVarying::LinearBoundaries, r::FVarLinear::Boundaries),
+        (FaceVarying::LinearAll, r::FVarLinear::All),
+    ];
+    for (name, mesh, uv, idx) in cases {
+        let (rm, rc) = to_ref(mesh);
+        for (ours_mode, osd_mode) in modes {
+            for level in 1..=3 {
+                let refiner = Refiner::new(mesh, &SubdivideOptions::with_levels(level)).unwrap();
+                let uv2: Vec<glam_like::V2> = uv.iter().map(|p| glam_like::V2(*p)).collect();
+                let ours = refiner
+                    .refine_face_varying(mesh, &uv2, idx, ours_mode)
+                    .unwrap();
+                let osd_opts = r::OsdOptions {
+                    fvar: osd_mode,
+                    ..Default::default()
+                };
+                let (_, theirs) = r::osd_catmark_fvar(&rm, &rc, &osd_opts, level, uv, idx).unwrap();
+                assert_eq!(ours.len(), theirs.len(), "{name} {ours_mode:?} L{level}");
+                for (k, (a, b)) in ours.iter().zip(&theirs).enumerate() {
+                    let e = ((a.0[0] - b[0]).powi(2) + (a.0[1] - b[1]).powi(2)).sqrt();
+                    assert!(
+                        e < 1e-12,
+                        "{name} {ours_mode:?} L{level} corner {k}: katachi {:?}, OpenSubdiv {b:?}",
+                        a.0
+                    );
+                }
+            }
+        }
+    }
+}
+
+/// A 2-vector as a katachi primvar, without depending on glam here.
+mod glam_like {
+    #[derive(Clone, Debug)]
+    pub struct V2(pub [f64; 2]);
+    impl katachi::subdivide::Primvar for V2 {
+        fn zero() -> Self {
+            V2([0.0; 2])
+        }
+        fn add_scaled(&mut self, o: &Self, w: f64) {
+            self.0[0] += w * o.0[0];
+            self.0[1] += w * o.0[1];
+        }
+    }
+}

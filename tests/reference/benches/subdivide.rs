@@ -1,0 +1,123 @@
+//! Catmull-Clark side by side in one run: katachi (one thread), OpenSubdiv 3.5 (Far refiner +
+//! PrimvarRefinerReal<double>, one thread) and OpenMesh 9, levels 1-3, on a 200 × 160 quad
+//! torus (32k quads) and beast.obj. The reference libraries are timed inside the shim (their
+//! own work only); katachi is timed for the whole call, input to output mesh.
+//! Peak memory is measured per library in fresh processes (`peak_rss`) and printed.
+
+use std::time::{Duration, Instant};
+
+use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
+use katachi::mesh::shapes;
+use katachi::subdivide::{catmull_clark, SubdivideOptions};
+use katachi::PolyMesh;
+use katachi_reference as r;
+
+fn to_ref(mesh: &PolyMesh) -> r::RefMesh {
+    r::RefMesh {
+        positions: mesh.positions().iter().map(|p| p.to_array()).collect(),
+        face_sizes: mesh
+            .faces()
+            .map(|f| mesh.face_outer(f).len() as u32)
+            .collect(),
+        face_vertices: mesh.corners().iter().map(|v| v.0).collect(),
+    }
+}
+
+fn models() -> Vec<(&'static str, String, PolyMesh)> {
+    let mut v = vec![(
+        "torus 200x160",
+        "torus".to_string(),
+        shapes::torus(200, 160, 2.0, 0.5),
+    )];
+    let beast = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../../shared/data/models/beast.obj"
+    );
+    match katachi::io::read(std::path::Path::new(beast)) {
+        Ok(m) => v.push(("beast.obj", beast.to_string(), m)),
+        Err(e) => eprintln!("beast.obj not benchmarked: {e}"),
+    }
+    v
+}
+
+fn subdivide(c: &mut Criterion) {
+    for (name, _, mesh) in models() {
+        let rm = to_ref(&mesh);
+        let mut g = c.benchmark_group(format!("catmull-clark {name}"));
+        g.sample_size(10);
+        g.warm_up_time(Duration::from_millis(500));
+        g.measurement_time(Duration::from_secs(3));
+        for level in 1..=3u32 {
+            let o = SubdivideOptions::with_levels(level);
+            g.bench_with_input(BenchmarkId::new("katachi", level), &level, |b, _| {
+                b.iter(|| catmull_clark(&mesh, &o).unwrap())
+            });
+            g.bench_with_input(BenchmarkId::new("opensubdiv", level), &level, |b, &l| {
+                b.iter_custom(|iters| {
+                    let mut total = Duration::ZERO;
+                    for _ in 0..iters {
+                        let (_, t) = r::osd_catmark_timed(
+                            &rm,
+                            &r::Creases::default(),
+                            &r::OsdOptions::default(),
+                            l,
+                        )
+                        .unwrap();
+                        total += t.total();
+                    }
+                    total
+                })
+            });
+            if level <= 2 || mesh.face_count() < 40_000 {
+                g.bench_with_input(BenchmarkId::new("openmesh", level), &level, |b, &l| {
+                    b.iter_custom(|iters| {
+                        let mut total = Duration::ZERO;
+                        for _ in 0..iters {
+                            let (_, t) = r::openmesh_catmull_clark_timed(&rm, l).unwrap();
+                            total += t.total();
+                        }
+                        total
+                    })
+                });
+            }
+        }
+        g.finish();
+    }
+}
+
+/// Peak resident memory of each library at level 3, each in a fresh process.
+fn peak_memory(_c: &mut Criterion) {
+    let exe = env!("CARGO_BIN_EXE_peak_rss");
+    println!("\npeak memory (fresh process each; KiB before the call / peak after; time)");
+    for (name, arg, _) in models() {
+        for lib in ["katachi", "opensubdiv", "openmesh"] {
+            let t = Instant::now();
+            let out = std::process::Command::new(exe)
+                .args([lib, &arg, "3"])
+                .output();
+            match out {
+                Ok(o) if o.status.success() => {
+                    let s = String::from_utf8_lossy(&o.stdout);
+                    let f: Vec<&str> = s.split_whitespace().collect();
+                    if f.len() == 5 {
+                        println!(
+                            "  {name:14} L3 {lib:10} faces {:>8}  peak {:>7} MiB (before {:>5} MiB)  {:>7.1} ms",
+                            f[1],
+                            f[3].parse::<u64>().unwrap_or(0) / 1024,
+                            f[2].parse::<u64>().unwrap_or(0) / 1024,
+                            f[4].parse::<f64>().unwrap_or(0.0)
+                        );
+                    }
+                }
+                Ok(o) => println!(
+                    "  {name} {lib}: failed: {}",
+                    String::from_utf8_lossy(&o.stderr)
+                ),
+                Err(e) => println!("  {name} {lib}: cannot run: {e} ({:?})", t.elapsed()),
+            }
+        }
+    }
+}
+
+criterion_group!(benches, subdivide, peak_memory);
+criterion_main!(benches);

@@ -90,6 +90,11 @@ pub enum Error {
     /// A sharpness value is negative or not finite.
     #[error("{element}: sharpness {value} is invalid (it must be finite and at least 0)")]
     InvalidSharpness { element: String, value: f64 },
+    /// A face with holes is not a valid planar face with holes: a loop off its plane, loops
+    /// crossing or touching, a hole outside the outer loop or inside another hole, a hole
+    /// wound like the outer loop, or an outer loop without area.
+    #[error("face {face}: {reason}")]
+    InvalidFaceWithHoles { face: u32, reason: String },
     /// The two vertices are not joined by an edge of any face.
     #[error("there is no edge between vertices {a} and {b}")]
     NoSuchEdge { a: u32, b: u32 },

@@ -189,3 +189,269 @@ fn deterministic_bits() {
     let b = catmull_clark(&m, &SubdivideOptions::with_levels(2)).unwrap();
     assert_eq!(a.mesh, b.mesh);
 }
+
+// ---------------------------------------------------------------------------------------
+// Faces with holes (seed 001 §4).
+
+use katachi::subdivide::HoleMethod;
+use katachi::{Error, FaceId, PolyMesh};
+
+fn with_holes(method: HoleMethod, levels: u32) -> SubdivideOptions {
+    let mut o = SubdivideOptions::with_levels(levels);
+    o.holes = method;
+    o
+}
+
+/// The plate's top face (face 0) lies in z = thickness, its bottom (face 1) in z = 0.
+#[test]
+fn method_b_keeps_faces_planar_with_their_holes() {
+    let plate = shapes::plate_with_hole(4.0, 2.0, 1.0);
+    for levels in 1..=3 {
+        let out = catmull_clark(&plate, &with_holes(HoleMethod::Sharp, levels)).unwrap();
+        let m = &out.mesh;
+        let kept: Vec<FaceId> = m.faces().filter(|&f| m.face_loop_count(f) > 1).collect();
+        assert_eq!(
+            kept.len(),
+            2,
+            "both faces with holes stay whole, each with its hole"
+        );
+        for &f in &kept {
+            let z0 = m.position(m.face_outer(f)[0]).z;
+            for l in m.face_loops(f) {
+                assert_eq!(
+                    m.loop_vertices(l).len(),
+                    4 << levels,
+                    "4 · 2^L loop vertices"
+                );
+                for &v in m.loop_vertices(l) {
+                    assert!((m.position(v).z - z0).abs() <= 1e-12 * 4.0, "planar");
+                }
+            }
+        }
+        assert!(out.report.fell_back_to_sharp.is_empty());
+    }
+}
+
+/// Method [b]'s loops are the level-L control polygons of closed uniform cubic B-splines
+/// (crease rule eq. (3) at loop vertices, midpoints at loop edges).
+#[test]
+fn method_b_loops_are_cubic_b_spline_curves() {
+    let plate = shapes::plate_with_hole(4.0, 2.0, 1.0);
+    let levels = 3;
+    let out = catmull_clark(&plate, &with_holes(HoleMethod::Sharp, levels)).unwrap();
+    let m = &out.mesh;
+    let top = m.faces().find(|&f| m.face_loop_count(f) > 1).unwrap();
+    let orig_top = plate
+        .faces()
+        .find(|&f| plate.face_loop_count(f) > 1)
+        .unwrap();
+    for (lo, l) in plate.face_loops(orig_top).zip(m.face_loops(top)) {
+        let mut curve: Vec<DVec3> = plate
+            .loop_vertices(lo)
+            .iter()
+            .map(|&v| plate.position(v))
+            .collect();
+        for _ in 0..levels {
+            let n = curve.len();
+            let mut next = Vec::with_capacity(2 * n);
+            for i in 0..n {
+                let (a, v, b) = (curve[(i + n - 1) % n], curve[i], curve[(i + 1) % n]);
+                next.push((a + 6.0 * v + b) / 8.0);
+                next.push(0.5 * (v + b));
+            }
+            curve = next;
+        }
+        let got: Vec<DVec3> = m.loop_vertices(l).iter().map(|&v| m.position(v)).collect();
+        assert_eq!(got.len(), curve.len());
+        for (a, b) in got.iter().zip(&curve) {
+            assert!(close(*a, *b), "{a} vs {b}");
+        }
+    }
+}
+
+/// Spec §5.4, square in square: method [a] equals plain Catmull-Clark on the mesh whose
+/// annuli are split into the four trapezoids.
+#[test]
+fn method_a_square_in_square_equals_the_explicitly_bridged_mesh() {
+    let plate = shapes::plate_with_hole(4.0, 2.0, 1.0);
+    // Bridge by hand: top face outer 4..8 with hole 12..16, bottom 0..4 with hole 8..12.
+    let mut faces: Vec<Vec<u32>> = Vec::new();
+    for f in plate.faces() {
+        let loops: Vec<Vec<u32>> = plate
+            .face_loops(f)
+            .map(|l| plate.loop_vertices(l).iter().map(|v| v.0).collect())
+            .collect();
+        if loops.len() == 1 {
+            faces.push(loops[0].clone());
+            continue;
+        }
+        let (p, c) = (&loops[0], &loops[1]);
+        for a in 0..4 {
+            // Nearest hole vertex of each outer corner: the one at the same (x, y) direction.
+            let near = |pv: u32| -> u32 {
+                *c.iter()
+                    .min_by(|&&x, &&y| {
+                        let d = |q: u32| {
+                            (plate.position(VertexId(q)) - plate.position(VertexId(pv))).length()
+                        };
+                        d(x).total_cmp(&d(y))
+                    })
+                    .unwrap()
+            };
+            let (p0, p1) = (p[a], p[(a + 1) % 4]);
+            faces.push(vec![p0, p1, near(p1), near(p0)]);
+        }
+    }
+    let explicit = PolyMesh::from_polygons(plate.positions().to_vec(), &faces).unwrap();
+    for levels in 1..=3 {
+        let a = catmull_clark(&plate, &with_holes(HoleMethod::Smooth, levels)).unwrap();
+        assert!(a.report.fell_back_to_sharp.is_empty(), "{:?}", a.report);
+        let b = catmull_clark(&explicit, &SubdivideOptions::with_levels(levels)).unwrap();
+        let key = |m: &PolyMesh| {
+            let mut k: Vec<[i64; 3]> = m
+                .positions()
+                .iter()
+                .map(|p| p.to_array().map(|c| (c * 1e9).round() as i64))
+                .collect();
+            k.sort_unstable();
+            k
+        };
+        assert_eq!(a.mesh.face_count(), b.mesh.face_count());
+        assert_eq!(key(&a.mesh), key(&b.mesh), "level {levels}");
+        assert!(a
+            .face_origin
+            .iter()
+            .all(|f| f.idx() < plate.face_count() as usize));
+    }
+}
+
+/// Spec §5.4, octagon in a square: the face point of each virtual face ignores the octagon
+/// vertex in the middle of its arc, so method [a] differs from plain Catmull-Clark there.
+#[test]
+fn method_a_octagon_in_square_uses_four_vertex_face_points() {
+    let mut p = vec![];
+    for (x, y) in [(-2.0, -2.0), (2.0, -2.0), (2.0, 2.0), (-2.0, 2.0)] {
+        p.push(DVec3::new(x, y, 0.0));
+    }
+    for k in 0..8 {
+        let t = std::f64::consts::TAU * k as f64 / 8.0;
+        p.push(DVec3::new(t.cos(), t.sin(), 0.0));
+    }
+    // Hole clockwise: 4, 11, 10, ..., 5.
+    let hole: Vec<u32> = std::iter::once(4).chain((5..12).rev()).collect();
+    let face = PolyMesh::from_faces_with_holes(p, vec![vec![vec![0u32, 1, 2, 3], hole]]).unwrap();
+    let out = catmull_clark(&face, &with_holes(HoleMethod::Smooth, 1)).unwrap();
+    assert!(out.report.fell_back_to_sharp.is_empty(), "{:?}", out.report);
+    assert_eq!(out.mesh.face_count(), 4 * 5, "four pentagon virtual faces");
+    // The virtual face at the +x side joins corners (2,-2), (2,2) and octagon vertices at
+    // -45° and +45°: its face point is their average, not the pentagon's.
+    let (s, c) = (std::f64::consts::FRAC_1_SQRT_2, 2.0);
+    let expect = (DVec3::new(c, -c, 0.0)
+        + DVec3::new(c, c, 0.0)
+        + DVec3::new(s, -s, 0.0)
+        + DVec3::new(s, s, 0.0))
+        / 4.0;
+    assert!(
+        out.mesh.positions().iter().any(|&q| close(q, expect)),
+        "face point {expect}"
+    );
+    let pentagon_avg = (4.0 * expect + DVec3::new(1.0, 0.0, 0.0)) / 5.0;
+    assert!(!out.mesh.positions().iter().any(|&q| close(q, pentagon_avg)));
+}
+
+/// Boolean reconstruction: the plate triangulated (as a boolean outputs it) comes back as faces
+/// with holes, and then subdivides exactly as the plate built with them.
+#[test]
+fn recovered_faces_with_holes_subdivide_like_the_original() {
+    let plate = shapes::plate_with_hole(4.0, 2.0, 1.0);
+    let mut tris: Vec<[u32; 3]> = Vec::new();
+    for f in plate.faces() {
+        let loops: Vec<Vec<u32>> = plate
+            .face_loops(f)
+            .map(|l| plate.loop_vertices(l).iter().map(|v| v.0).collect())
+            .collect();
+        if loops.len() == 1 {
+            let q = &loops[0];
+            tris.push([q[0], q[1], q[2]]);
+            tris.push([q[0], q[2], q[3]]);
+        } else {
+            // Annulus: outer p (CCW) and hole c (CW); pair p[a] with the hole vertex nearest it.
+            let (p, c) = (&loops[0], &loops[1]);
+            let near = |pv: u32| -> u32 {
+                *c.iter()
+                    .min_by(|&&x, &&y| {
+                        let d = |q: u32| {
+                            (plate.position(VertexId(q)) - plate.position(VertexId(pv))).length()
+                        };
+                        d(x).total_cmp(&d(y))
+                    })
+                    .unwrap()
+            };
+            for a in 0..4 {
+                let (p0, p1) = (p[a], p[(a + 1) % 4]);
+                tris.push([p0, p1, near(p1)]);
+                tris.push([p0, near(p1), near(p0)]);
+            }
+        }
+    }
+    let soup = PolyMesh::from_polygons(plate.positions().to_vec(), &tris).unwrap();
+    for method in [HoleMethod::Smooth, HoleMethod::Sharp] {
+        let mut o = with_holes(method, 2);
+        o.recover_faces_with_holes = true;
+        let a = catmull_clark(&soup, &o).unwrap();
+        let b = catmull_clark(&plate, &with_holes(method, 2)).unwrap();
+        assert_eq!(a.mesh.face_count(), b.mesh.face_count(), "{method:?}");
+        assert_eq!(
+            a.mesh
+                .faces()
+                .filter(|&f| a.mesh.face_loop_count(f) > 1)
+                .count(),
+            b.mesh
+                .faces()
+                .filter(|&f| b.mesh.face_loop_count(f) > 1)
+                .count()
+        );
+        // Face origins refer to the triangles of the input.
+        assert!(a
+            .face_origin
+            .iter()
+            .all(|f| f.idx() < soup.face_count() as usize));
+        // Vertex data follow through the merge: refining x gives the positions' x.
+        let r = katachi::subdivide::Refiner::new(&soup, &o).unwrap();
+        let xs: Vec<f64> = soup.positions().iter().map(|p| p.x).collect();
+        let rx = r.refine_vertex_data(&xs).unwrap();
+        assert!(rx
+            .iter()
+            .zip(a.mesh.positions())
+            .all(|(x, p)| (x - p.x).abs() < 1e-12));
+    }
+}
+
+#[test]
+fn bad_faces_with_holes_are_typed_errors_naming_the_face() {
+    let sq =
+        |r: f64, z: f64| [(-r, -r), (r, -r), (r, r), (-r, r)].map(|(x, y)| DVec3::new(x, y, z));
+    let mk = |hole: [DVec3; 4]| {
+        let mut p: Vec<DVec3> = sq(2.0, 0.0).to_vec();
+        p.extend(hole);
+        PolyMesh::from_faces_with_holes(p, vec![vec![vec![0u32, 1, 2, 3], vec![7, 6, 5, 4]]])
+            .unwrap()
+    };
+    let outside = mk(sq(1.0, 0.0).map(|p| p + DVec3::new(5.0, 0.0, 0.0)));
+    let tilted = mk(sq(1.0, 0.0).map(|p| DVec3::new(p.x, p.y, 0.3 * p.x)));
+    let crossing = mk(sq(1.0, 0.0).map(|p| p + DVec3::new(1.5, 0.0, 0.0)));
+    for (name, m) in [
+        ("outside", outside),
+        ("not coplanar", tilted),
+        ("crossing", crossing),
+    ] {
+        for method in [HoleMethod::Smooth, HoleMethod::Sharp] {
+            let err = catmull_clark(&m, &with_holes(method, 1)).unwrap_err();
+            assert!(
+                matches!(err, Error::InvalidFaceWithHoles { face: 0, .. }),
+                "{name}: {err}"
+            );
+            assert!(err.to_string().starts_with("face 0: "), "{name}: {err}");
+        }
+    }
+}

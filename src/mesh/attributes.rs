@@ -111,6 +111,9 @@ impl PolyMesh {
         I: IntoIterator<Item = (VertexId, VertexId, f64)>,
     {
         let values: Vec<_> = values.into_iter().collect();
+        if values.is_empty() {
+            return Ok(());
+        }
         let edges = self.edge_set();
         for &(a, b, s) in &values {
             if !edges.contains(&edge_key(a, b)) {

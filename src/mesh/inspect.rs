@@ -141,14 +141,16 @@ fn coincident_vertices(positions: &[DVec3]) -> u32 {
 }
 
 /// Area vector of a face by Newell's formula over all its loops (holes, wound clockwise,
-/// subtract themselves).
+/// subtract themselves), relative to the face's first vertex so that precision does not
+/// depend on the distance from the origin.
 pub(crate) fn face_area_vector(mesh: &PolyMesh, f: FaceId) -> DVec3 {
+    let origin = mesh.position(mesh.face_outer(f)[0]);
     let mut n = DVec3::ZERO;
     for l in mesh.face_loops(f) {
         let lp = mesh.loop_vertices(l);
         for (i, &a) in lp.iter().enumerate() {
             let b: VertexId = lp[(i + 1) % lp.len()];
-            n += mesh.position(a).cross(mesh.position(b));
+            n += (mesh.position(a) - origin).cross(mesh.position(b) - origin);
         }
     }
     0.5 * n

@@ -2,7 +2,7 @@
 //!
 //! A face has one or more loops of vertex ids. The first loop is the outer boundary,
 //! counter-clockwise seen from outside; further loops are holes, clockwise. This is the
-//! B-rep face with a P loop and C loops of seed 001 (§2), the shape CAD booleans produce.
+//! B-rep face with a P loop and C loops of seed 001 (§1, §4), the shape CAD booleans produce.
 //! Storage is flat (struct of arrays): `face_loop_offsets` indexes `loop_offsets`, which
 //! indexes `corners`, so a million-face mesh is three allocations, not a million.
 

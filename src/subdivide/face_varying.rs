@@ -53,11 +53,16 @@ pub(crate) fn refine<T: Primvar>(
             values.len()
         )));
     }
-    if refiner.level(0).corner_verts.len() != mesh.corner_count() as usize {
-        return Err(Error::InvalidArgument(
-            "face-varying data follows faces with holes only with method [b]".into(),
-        ));
-    }
+    // Level 0 may differ from the input (recovered or bridged faces): follow its corners.
+    let mapped: Vec<u32>;
+    let indices = match refiner.corner_origin() {
+        None => indices,
+        Some(o) => {
+            mapped = o.iter().map(|&k| indices[k as usize]).collect();
+            &mapped
+        }
+    };
+    let mesh = refiner.level0_mesh(mesh);
     match mode {
         FaceVarying::LinearAll => Ok(bilinear(refiner, values, indices)),
         _ => smooth(refiner, mesh, values, indices, mode),
@@ -173,6 +178,11 @@ fn smooth<T: Primvar>(
     }
     uv.set_all_vertex_sharpness(vertex_sharpness)?;
     let mut options = refiner.options().clone();
+    // The UV topology is refined as level 0 is: no recovery or tagging again, faces with
+    // holes that level 0 kept stay whole.
+    options.recover_faces_with_holes = false;
+    options.feature_angle = None;
+    options.holes = super::options::HoleMethod::Sharp;
     options.boundary = match mode {
         FaceVarying::LinearCornersOnly => BoundaryInterpolation::EdgeAndCorner,
         _ => BoundaryInterpolation::EdgeOnly,

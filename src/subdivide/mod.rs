@@ -3,7 +3,7 @@
 //! creases and OpenSubdiv's boundary and non-manifold rules.
 //!
 //! [`catmull_clark`] refines any polygon mesh (triangles, quads, n-gons) and faces with holes
-//! (a P loop and C loops, seed 001 §2): method [a] bridges the loops and subdivides smoothly,
+//! (a P loop and C loops, seed 001 §1, §4): method [a] bridges the loops and subdivides smoothly,
 //! method [b] keeps the face planar with its loops as sharp crease curves.
 //!
 //! Written by hand because no Rust crate does Catmull-Clark with semi-sharp creases, and
@@ -15,6 +15,7 @@ pub mod features;
 pub mod holes;
 mod level;
 mod options;
+mod prepare;
 mod primvar;
 mod refine;
 mod refiner;

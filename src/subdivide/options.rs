@@ -1,13 +1,15 @@
 //! Options of [`super::catmull_clark`].
 
-/// How faces with holes (a P loop and C loops, seed 001 §2) are subdivided.
+use super::regions::MergeOptions;
+
+/// How faces with holes (a P loop and C loops, seed 001 §1, §4) are subdivided.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum HoleMethod {
-    /// Method [a], seed 001 §3.1: bridge each C loop to the P loop and subdivide smoothly;
+    /// Method [a], seed 001 §4: bridge each C loop to the P loop and subdivide smoothly;
     /// loop vertices take valence n + 1 in eq. (2). Faces it cannot bridge fall back to
     /// [`HoleMethod::Sharp`] and are listed in the report.
     Smooth,
-    /// Method [b], seed 001 §3.2: P and C loop edges become sharp, the face stays one planar
+    /// Method [b], seed 001 §4: P and C loop edges become sharp, the face stays one planar
     /// face with holes, and its loops become cubic B-spline crease curves.
     Sharp,
 }
@@ -45,6 +47,14 @@ pub struct SubdivideOptions {
     pub boundary: BoundaryInterpolation,
     /// Semi-sharp crease rule. Default value: [`CreaseMethod::Uniform`] (OpenSubdiv's default).
     pub crease_method: CreaseMethod,
+    /// First turn coplanar regions (a boolean's triangulated or fanned output) back into
+    /// faces with holes ([`super::merge_coplanar_regions`]). Default value: `false`.
+    pub recover_faces_with_holes: bool,
+    /// Tolerances of that recovery. Default value: [`MergeOptions::default`].
+    pub merge: MergeOptions,
+    /// Tag edges whose dihedral angle exceeds this many degrees as infinitely sharp
+    /// ([`super::tag_feature_edges`]), for CAD meshes. Default value: `None` (off).
+    pub feature_angle: Option<f64>,
 }
 
 impl Default for SubdivideOptions {
@@ -54,6 +64,9 @@ impl Default for SubdivideOptions {
             holes: HoleMethod::Smooth,
             boundary: BoundaryInterpolation::EdgeOnly,
             crease_method: CreaseMethod::Uniform,
+            recover_faces_with_holes: false,
+            merge: MergeOptions::default(),
+            feature_angle: None,
         }
     }
 }

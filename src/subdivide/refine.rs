@@ -2,7 +2,7 @@
 //! topology and sharpness (which faces split, child sharpness, each vertex's rule and blend
 //! weight), and [`interpolate`] applies it to values of any [`Primvar`] type.
 //!
-//! Rules follow seed 001 (which takes them from DeRose et al. 1998): face point §2.1, edge
+//! Rules follow seed 001 (which takes them from DeRose et al. 1998): face point (§2), edge
 //! point eq. (1), vertex point eq. (2); sharp edge point = midpoint; crease vertex eq. (3);
 //! corner vertex eq. (4); semi-sharp edges and rule changes between levels blend the masks
 //! as OpenSubdiv does (spec §7.1). Every sum is a scatter pass over corners or edges, so the
@@ -47,7 +47,7 @@ pub(crate) struct Step {
     /// Per vertex, when the level has any sharpness.
     pub masks: Vec<VertexMask>,
     /// Per parent face, the vertices whose average is its face point when that is not the
-    /// face's own vertex average (method [a]'s virtual faces, seed 001 §3.1).
+    /// face's own vertex average (method [a]'s virtual faces, seed 001 §4).
     pub face_point_vertices: Vec<Option<Vec<u32>>>,
 }
 
@@ -170,7 +170,7 @@ pub(crate) fn interpolate<T: Primvar>(parent: &Level, step: &Step, values: &[T])
     let (f0, e0) = (nv, nv + step.refined);
     let mut out = vec![T::zero(); nv + step.refined + ne];
 
-    // Face points (§2.1: vertex average, or method [a]'s four bridge ends).
+    // Face points (seed §2: vertex average, or method [a]'s four bridge ends).
     for f in 0..nf {
         let fc = step.face_child[f];
         if fc == u32::MAX {

@@ -8,7 +8,8 @@ use glam::DVec3;
 
 use super::face_varying::{self, FaceVarying};
 use super::level::Level;
-use super::options::{HoleMethod, SubdivideOptions};
+use super::options::SubdivideOptions;
+use super::prepare::{prepare, Prepared};
 use super::primvar::{Primvar, SparseRow};
 use super::refine::{self, Step};
 use super::SubdivideReport;
@@ -23,8 +24,10 @@ pub struct Refiner {
     steps: Vec<Step>,
     options: SubdivideOptions,
     report: SubdivideReport,
-    /// Input mesh corners → level-0 corners is the identity unless faces were bridged.
+    /// Level 0's mesh and its maps to the caller's mesh.
+    prepared: Prepared,
     input_vertices: u32,
+    input_corners: u32,
 }
 
 /// The subdivision as a sparse matrix: row `i` gives output vertex `i` as a weighted sum of
@@ -72,20 +75,19 @@ impl Refiner {
             });
         }
         let mut report = SubdivideReport::default();
-        let keep = |f: u32| mesh.face_loop_count(FaceId(f)) > 1;
-        if options.holes == HoleMethod::Smooth {
-            for f in mesh.faces().filter(|&f| mesh.face_loop_count(f) > 1) {
-                report.fell_back_to_sharp.push((
-                    f,
-                    "method [a] bridging is not available yet; method [b] was used".into(),
-                ));
-            }
-        }
-        let mut levels = vec![Level::from_mesh(mesh, options, &keep)?];
+        let prepared = prepare(mesh, options, &mut report)?;
+        let m0 = prepared.mesh(mesh);
+        let keep = |f: u32| m0.face_loop_count(FaceId(f)) > 1;
+        let mut levels = vec![Level::from_mesh(m0, options, &keep)?];
         let mut steps = Vec::with_capacity(options.levels as usize);
         for l in 0..options.levels {
             let parent = levels.last().expect("level 0 exists");
-            let step = refine::plan(parent, options.crease_method, Vec::new());
+            let face_points = if l == 0 {
+                prepared.face_points.clone()
+            } else {
+                Vec::new()
+            };
+            let step = refine::plan(parent, options.crease_method, face_points);
             let child = refine::child_level(parent, &step, l + 1 == options.levels);
             steps.push(step);
             levels.push(child);
@@ -96,7 +98,9 @@ impl Refiner {
             steps,
             options: options.clone(),
             report,
+            prepared,
             input_vertices: mesh.vertex_count(),
+            input_corners: mesh.corner_count(),
         })
     }
 
@@ -126,7 +130,26 @@ impl Refiner {
 
     /// For each output face, the input face it comes from.
     pub fn face_origin(&self) -> Vec<FaceId> {
-        self.last().face_origin.iter().map(|&f| FaceId(f)).collect()
+        let last = &self.last().face_origin;
+        match &self.prepared.face_origin {
+            None => last.iter().map(|&f| FaceId(f)).collect(),
+            Some(o) => last.iter().map(|&f| FaceId(o[f as usize])).collect(),
+        }
+    }
+
+    /// Number of face corners of the input mesh (face-varying indices expected).
+    pub fn input_corner_count(&self) -> u32 {
+        self.input_corners
+    }
+
+    /// Level 0's mesh: the input, or what recovery, feature tagging and bridging made of it.
+    pub(crate) fn level0_mesh<'a>(&'a self, input: &'a PolyMesh) -> &'a PolyMesh {
+        self.prepared.mesh(input)
+    }
+
+    /// Input corner of each level-0 corner (`None`: the identity).
+    pub(crate) fn corner_origin(&self) -> Option<&[u32]> {
+        self.prepared.corner_origin.as_deref()
     }
 
     /// Interpolates per-input-vertex data (positions, colours, weights) to the output
@@ -150,6 +173,14 @@ impl Refiner {
         progress: &mut dyn FnMut(u32, u32),
     ) -> Vec<T> {
         let n = self.levels();
+        let mapped: Vec<T>;
+        let values = match &self.prepared.vertex_origin {
+            None => values,
+            Some(o) => {
+                mapped = o.iter().map(|&v| values[v as usize].clone()).collect();
+                &mapped
+            }
+        };
         let mut cur = refine::interpolate(&self.levels[0], &self.steps[0], values);
         progress(1, n);
         for l in 1..n as usize {

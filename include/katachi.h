@@ -396,6 +396,20 @@ typedef struct KatachiSubdivideOptions {
      * A `KatachiCreaseMethod`. Default `KATACHI_CREASE_METHOD_UNIFORM`.
      */
     uint32_t crease_method;
+    /**
+     * 1: first turn coplanar regions (a boolean's triangles) back into faces with holes, as
+     * `katachi_merge_coplanar_regions` does. Default 0.
+     */
+    uint32_t recover_faces_with_holes;
+    /**
+     * Angle tolerance of that recovery, in radians, in [0, π/2). Default 1e-3.
+     */
+    double coplanar_angle_tolerance;
+    /**
+     * Tag edges whose dihedral angle exceeds this many degrees as infinitely sharp (0: off).
+     * Default 0.
+     */
+    double feature_angle_degrees;
 } KatachiSubdivideOptions;
 
 /**
@@ -924,6 +938,58 @@ KatachiStatus katachi_subdivision_copy_stencils(const struct KatachiSubdivision 
                                                 size_t sources_capacity,
                                                 double *weights,
                                                 size_t weights_capacity);
+
+/**
+ * Copies the reason method [a] could not bridge fallback face number `index` (0 to
+ * `fallback_face_count` − 1) as a NUL-terminated UTF-8 string into `buffer`
+ * (`capacity` bytes, terminator included; `(NULL, 0)` asks the size, reported as
+ * `KATACHI_STATUS_BUFFER_TOO_SMALL` with the size in the message).
+ *
+ * # Safety
+ * `subdivision` NULL or a live handle; `buffer` NULL or writable for `capacity` bytes.
+ */
+KatachiStatus katachi_subdivision_fallback_reason(const struct KatachiSubdivision *subdivision,
+                                                  uint32_t index,
+                                                  char *buffer,
+                                                  size_t capacity);
+
+/**
+ * Turns coplanar regions of `mesh` (a boolean's triangles or n-gon fans) into faces with
+ * holes; `angle_tolerance` in radians, in [0, π/2) (1e-3 is the default of the subdivision
+ * option). The new mesh goes to `*out` (free it with `katachi_mesh_free`); `mesh` is unchanged.
+ *
+ * # Safety
+ * `mesh` NULL or a live handle; `out` NULL or writable.
+ */
+KatachiStatus katachi_merge_coplanar_regions(const struct KatachiMesh *mesh,
+                                             double angle_tolerance,
+                                             struct KatachiMesh **out);
+
+/**
+ * A copy of `mesh` whose edges with a dihedral angle above `angle_degrees` (in (0, 180))
+ * are infinitely sharp, in `*out` (free it with `katachi_mesh_free`).
+ *
+ * # Safety
+ * `mesh` NULL or a live handle; `out` NULL or writable.
+ */
+KatachiStatus katachi_tag_feature_edges(const struct KatachiMesh *mesh,
+                                        double angle_degrees,
+                                        struct KatachiMesh **out);
+
+/**
+ * A copy of `mesh` whose faces with holes are cut along bridge edges into simple polygons
+ * (for hosts that store no faces with holes), in `*out`; `face_origin`, when not NULL, gets
+ * the source face of each new face (`capacity` values, at least the new face count, which
+ * `katachi_mesh_counts` on the result gives; pass NULL to skip).
+ *
+ * # Safety
+ * `mesh` NULL or a live handle; `out` NULL or writable; `face_origin` NULL or writable for
+ * `capacity` values.
+ */
+KatachiStatus katachi_mesh_split_faces_with_holes(const struct KatachiMesh *mesh,
+                                                  struct KatachiMesh **out,
+                                                  uint32_t *face_origin,
+                                                  size_t capacity);
 
 #ifdef __cplusplus
 }  // extern "C"

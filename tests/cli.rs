@@ -75,6 +75,9 @@ fn demo_writes_results() {
         "chamfer-cube.obj",
         "cube_creased.obj",
         "torus_24x12.info.txt",
+        "plate_with_hole_smooth_a.subdivided.obj",
+        "plate_with_hole_sharp_b.subdivided.obj",
+        "cube_creased.subdivided.obj",
     ] {
         assert!(d.join(f).is_file(), "demo did not write {f}");
     }
@@ -112,4 +115,69 @@ fn bad_input_is_one_line_and_status_2() {
         assert!(e.contains(expect), "{e} should name {expect}");
         assert!(!e.contains("panicked"), "{e}");
     }
+}
+
+#[test]
+fn subdivide_command() {
+    let d = tmp("subdivide");
+    // A boolean's output (triangles) recovered as faces with holes, both methods.
+    let soup = d.join("plate.obj");
+    katachi::io::write(&soup, &katachi::mesh::shapes::boolean_plate(4.0, 2.0, 1.0)).unwrap();
+    for method in ["smooth", "sharp"] {
+        let out = d.join(format!("plate_{method}.obj"));
+        let o = katachi(&[
+            "subdivide",
+            soup.to_str().unwrap(),
+            out.to_str().unwrap(),
+            "--levels",
+            "2",
+            "--solid",
+            "--holes",
+            method,
+        ]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        let m = katachi::io::read(&out).unwrap();
+        let r = katachi::mesh::inspect(&m).unwrap();
+        assert_eq!(r.genus, Some(1), "{method}");
+        if method == "sharp" {
+            assert!(stderr(&o).contains("faces with holes written as simple polygons"));
+        }
+    }
+    let out = d.join("fandisk.ply");
+    let o = katachi(&[
+        "subdivide",
+        &example("fandisk_quads.off"),
+        out.to_str().unwrap(),
+        "--feature-angle",
+        "30",
+        "--crease-method",
+        "chaikin",
+        "--boundary",
+        "edge-and-corner",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(stdout(&o).contains("3056 faces"), "{}", stdout(&o));
+    // Bad options are one line and status 2.
+    let o = katachi(&[
+        "subdivide",
+        &example("fandisk_quads.off"),
+        out.to_str().unwrap(),
+        "--levels",
+        "0",
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        stderr(&o).starts_with("error: option levels"),
+        "{}",
+        stderr(&o)
+    );
+    let o = katachi(&[
+        "subdivide",
+        &example("fandisk_quads.off"),
+        out.to_str().unwrap(),
+        "--feature-angle",
+        "200",
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    assert_eq!(stderr(&o).lines().count(), 1);
 }

@@ -705,3 +705,21 @@ proptest! {
         }
     }
 }
+
+#[test]
+fn split_faces_with_holes_keeps_geometry_and_adds_bridges() {
+    use katachi::subdivide::holes::split_faces_with_holes;
+    let plate = katachi::mesh::shapes::plate_with_hole(4.0, 2.0, 1.0);
+    let (split, origin) = split_faces_with_holes(&plate).unwrap();
+    assert!(split.faces().all(|f| split.face_loop_count(f) == 1));
+    assert_eq!(
+        split.face_count(),
+        8 + 2 * 4,
+        "each annulus becomes four trapezoids"
+    );
+    assert_eq!(origin.len(), split.face_count() as usize);
+    assert_eq!(split.positions(), plate.positions());
+    let r = katachi::mesh::inspect(&split).unwrap();
+    assert_eq!(r.genus, Some(1));
+    assert!(r.is_manifold());
+}

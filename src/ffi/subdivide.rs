@@ -8,9 +8,10 @@ use super::boundary::{
 use super::mesh::{mesh_ref, KatachiMesh};
 use super::status::KatachiStatus;
 use crate::mesh::PolyMesh;
+use crate::subdivide::holes::split_faces_with_holes;
 use crate::subdivide::{
-    BoundaryInterpolation, CreaseMethod, FaceVarying, HoleMethod, Refiner, Stencils,
-    SubdivideOptions,
+    merge_coplanar_regions, tag_feature_edges, BoundaryInterpolation, CreaseMethod, FaceVarying,
+    HoleMethod, MergeOptions, Refiner, Stencils, SubdivideOptions,
 };
 
 /// How faces with holes are subdivided (`KatachiSubdivideOptions::holes`).
@@ -72,6 +73,14 @@ pub struct KatachiSubdivideOptions {
     pub boundary: u32,
     /// A `KatachiCreaseMethod`. Default `KATACHI_CREASE_METHOD_UNIFORM`.
     pub crease_method: u32,
+    /// 1: first turn coplanar regions (a boolean's triangles) back into faces with holes, as
+    /// `katachi_merge_coplanar_regions` does. Default 0.
+    pub recover_faces_with_holes: u32,
+    /// Angle tolerance of that recovery, in radians, in [0, π/2). Default 1e-3.
+    pub coplanar_angle_tolerance: f64,
+    /// Tag edges whose dihedral angle exceeds this many degrees as infinitely sharp (0: off).
+    /// Default 0.
+    pub feature_angle_degrees: f64,
 }
 
 const OPTIONS_MIN_SIZE: usize = std::mem::size_of::<KatachiSubdivideOptions>();
@@ -82,6 +91,9 @@ const OPTIONS_DEFAULT: KatachiSubdivideOptions = KatachiSubdivideOptions {
     holes: KatachiHoleMethod::Smooth as u32,
     boundary: KatachiBoundary::EdgeOnly as u32,
     crease_method: KatachiCreaseMethod::Uniform as u32,
+    recover_faces_with_holes: 0,
+    coplanar_angle_tolerance: 1e-3,
+    feature_angle_degrees: 0.0,
 };
 
 /// Summary of a subdivision, filled in by `katachi_subdivision_info`.
@@ -195,6 +207,13 @@ fn options_from(o: &KatachiSubdivideOptions) -> FfiResult<SubdivideOptions> {
             ))
         }
     };
+    s.recover_faces_with_holes = match o.recover_faces_with_holes {
+        0 => false,
+        1 => true,
+        v => return Err(bad("recover_faces_with_holes", v, "0, 1")),
+    };
+    s.merge = MergeOptions::with_angle_tolerance(o.coplanar_angle_tolerance);
+    s.feature_angle = (o.feature_angle_degrees != 0.0).then_some(o.feature_angle_degrees);
     Ok(s)
 }
 
@@ -522,6 +541,130 @@ pub unsafe extern "C" fn katachi_subdivision_copy_stencils(
             *d = v.0;
         }
         w.copy_from_slice(&st.weights);
+        Ok(())
+    })
+}
+
+/// Copies the reason method [a] could not bridge fallback face number `index` (0 to
+/// `fallback_face_count` − 1) as a NUL-terminated UTF-8 string into `buffer`
+/// (`capacity` bytes, terminator included; `(NULL, 0)` asks the size, reported as
+/// `KATACHI_STATUS_BUFFER_TOO_SMALL` with the size in the message).
+///
+/// # Safety
+/// `subdivision` NULL or a live handle; `buffer` NULL or writable for `capacity` bytes.
+#[no_mangle]
+pub unsafe extern "C" fn katachi_subdivision_fallback_reason(
+    subdivision: *const KatachiSubdivision,
+    index: u32,
+    buffer: *mut std::ffi::c_char,
+    capacity: usize,
+) -> KatachiStatus {
+    guard("katachi_subdivision_fallback_reason", || {
+        // SAFETY: the caller's promises above.
+        let s = unsafe { sub_ref(subdivision) }?;
+        let fb = &s.refiner.report().fell_back_to_sharp;
+        let (_, why) = fb.get(index as usize).ok_or_else(|| {
+            FfiError::invalid(format!(
+                "index {index} is out of range ({} fallback faces)",
+                fb.len()
+            ))
+        })?;
+        let bytes = why.as_bytes();
+        let buf = unsafe {
+            out_buffer(
+                buffer,
+                capacity,
+                bytes.len() + 1,
+                "buffer",
+                &"bytes with the terminating NUL",
+            )
+        }?;
+        for (d, &b) in buf.iter_mut().zip(bytes) {
+            *d = b as std::ffi::c_char;
+        }
+        buf[bytes.len()] = 0;
+        Ok(())
+    })
+}
+
+/// Turns coplanar regions of `mesh` (a boolean's triangles or n-gon fans) into faces with
+/// holes; `angle_tolerance` in radians, in [0, π/2) (1e-3 is the default of the subdivision
+/// option). The new mesh goes to `*out` (free it with `katachi_mesh_free`); `mesh` is unchanged.
+///
+/// # Safety
+/// `mesh` NULL or a live handle; `out` NULL or writable.
+#[no_mangle]
+pub unsafe extern "C" fn katachi_merge_coplanar_regions(
+    mesh: *const KatachiMesh,
+    angle_tolerance: f64,
+    out: *mut *mut KatachiMesh,
+) -> KatachiStatus {
+    guard("katachi_merge_coplanar_regions", || {
+        // SAFETY: the caller's promises above.
+        let out = unsafe { super::mesh::reset_out(out) }?;
+        let mesh = unsafe { mesh_ref(mesh) }?;
+        let merged =
+            merge_coplanar_regions(mesh, &MergeOptions::with_angle_tolerance(angle_tolerance))?;
+        *out = KatachiMesh::into_raw(merged.mesh);
+        Ok(())
+    })
+}
+
+/// A copy of `mesh` whose edges with a dihedral angle above `angle_degrees` (in (0, 180))
+/// are infinitely sharp, in `*out` (free it with `katachi_mesh_free`).
+///
+/// # Safety
+/// `mesh` NULL or a live handle; `out` NULL or writable.
+#[no_mangle]
+pub unsafe extern "C" fn katachi_tag_feature_edges(
+    mesh: *const KatachiMesh,
+    angle_degrees: f64,
+    out: *mut *mut KatachiMesh,
+) -> KatachiStatus {
+    guard("katachi_tag_feature_edges", || {
+        // SAFETY: the caller's promises above.
+        let out = unsafe { super::mesh::reset_out(out) }?;
+        let mesh = unsafe { mesh_ref(mesh) }?;
+        *out = KatachiMesh::into_raw(tag_feature_edges(mesh, angle_degrees)?);
+        Ok(())
+    })
+}
+
+/// A copy of `mesh` whose faces with holes are cut along bridge edges into simple polygons
+/// (for hosts that store no faces with holes), in `*out`; `face_origin`, when not NULL, gets
+/// the source face of each new face (`capacity` values, at least the new face count, which
+/// `katachi_mesh_counts` on the result gives; pass NULL to skip).
+///
+/// # Safety
+/// `mesh` NULL or a live handle; `out` NULL or writable; `face_origin` NULL or writable for
+/// `capacity` values.
+#[no_mangle]
+pub unsafe extern "C" fn katachi_mesh_split_faces_with_holes(
+    mesh: *const KatachiMesh,
+    out: *mut *mut KatachiMesh,
+    face_origin: *mut u32,
+    capacity: usize,
+) -> KatachiStatus {
+    guard("katachi_mesh_split_faces_with_holes", || {
+        // SAFETY: the caller's promises above.
+        let out = unsafe { super::mesh::reset_out(out) }?;
+        let mesh = unsafe { mesh_ref(mesh) }?;
+        let (split, origin) = split_faces_with_holes(mesh)?;
+        if !face_origin.is_null() {
+            let buf = unsafe {
+                out_buffer(
+                    face_origin,
+                    capacity,
+                    origin.len(),
+                    "face_origin",
+                    &"one per new face",
+                )
+            }?;
+            for (d, f) in buf.iter_mut().zip(&origin) {
+                *d = f.0;
+            }
+        }
+        *out = KatachiMesh::into_raw(split);
         Ok(())
     })
 }

@@ -118,3 +118,44 @@ pub fn plate_with_hole(size: f64, hole: f64, thickness: f64) -> PolyMesh {
     }
     PolyMesh::from_faces_with_holes(p, faces).expect("generated shapes are valid")
 }
+
+/// [`plate_with_hole`] as a CAD boolean (box minus box) outputs it: every face triangulated,
+/// each annulus cut into 8 triangles between its outer and hole corners. 16 vertices,
+/// 32 triangles, genus 1; `merge_coplanar_regions` turns it back into the plate.
+pub fn boolean_plate(size: f64, hole: f64, thickness: f64) -> PolyMesh {
+    let plate = plate_with_hole(size, hole, thickness);
+    let mut tris: Vec<[u32; 3]> = Vec::with_capacity(32);
+    for f in plate.faces() {
+        let loops: Vec<Vec<u32>> = plate
+            .face_loops(f)
+            .map(|l| plate.loop_vertices(l).iter().map(|v| v.0).collect())
+            .collect();
+        if loops.len() == 1 {
+            let q = &loops[0];
+            tris.push([q[0], q[1], q[2]]);
+            tris.push([q[0], q[2], q[3]]);
+            continue;
+        }
+        // Outer corner i sits diagonally outside hole corner `near(i)` (same quadrant).
+        let (p, c) = (&loops[0], &loops[1]);
+        let pos = |v: u32| plate.positions()[v as usize];
+        let near = |pv: u32| -> u32 {
+            *c.iter()
+                .min_by(|&&x, &&y| {
+                    (pos(x) - pos(pv))
+                        .length()
+                        .total_cmp(&(pos(y) - pos(pv)).length())
+                })
+                .expect("a hole has vertices")
+        };
+        for a in 0..4 {
+            let (p0, p1) = (p[a], p[(a + 1) % 4]);
+            tris.push([p0, p1, near(p1)]);
+            tris.push([p0, near(p1), near(p0)]);
+        }
+    }
+    build(
+        plate.positions().to_vec(),
+        tris.iter().map(|t| t.to_vec()).collect(),
+    )
+}

@@ -1165,3 +1165,35 @@ fn bridge_hole(g: &FaceGeom, hole: usize) -> std::result::Result<HolePlan, Bridg
         None => Err(BridgeFailure::NoBridgeSet { hole: hole as u32 }),
     }
 }
+
+/// Replaces every face with holes by the simple polygons its method \[a\] bridges cut it
+/// into (spec §6.4 B4), for formats and hosts that store no faces with holes (OBJ, PLY,
+/// OFF, Blender, MeshLab). The geometry is unchanged; only bridge edges are added. Returns
+/// the new mesh and, per new face, the face it came from. A face that cannot be bridged is
+/// an error naming it.
+pub fn split_faces_with_holes(mesh: &PolyMesh) -> Result<(PolyMesh, Vec<FaceId>)> {
+    if mesh.faces().all(|f| mesh.face_loop_count(f) == 1) {
+        return Ok((mesh.clone(), mesh.faces().collect()));
+    }
+    let mut faces: Vec<Vec<u32>> = Vec::with_capacity(mesh.face_count() as usize);
+    let mut origin = Vec::with_capacity(mesh.face_count() as usize);
+    for f in mesh.faces() {
+        if mesh.face_loop_count(f) == 1 {
+            faces.push(mesh.face_outer(f).iter().map(|v| v.0).collect());
+            origin.push(f);
+            continue;
+        }
+        let b = bridge_face(mesh, f).map_err(|why| Error::InvalidFaceWithHoles {
+            face: f.0,
+            reason: format!("cannot be split into simple polygons: {why}"),
+        })?;
+        for vf in b.faces {
+            faces.push(vf.iter().map(|v| v.0).collect());
+            origin.push(f);
+        }
+    }
+    let mut out = PolyMesh::from_polygons(mesh.positions().to_vec(), faces)?;
+    out.set_edge_sharpnesses(mesh.sharp_edges().collect::<Vec<_>>())?;
+    out.set_all_vertex_sharpness(mesh.vertex_sharpness().to_vec())?;
+    Ok((out, origin))
+}

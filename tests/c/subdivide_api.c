@@ -218,11 +218,81 @@ static void test_bad_input(void)
     katachi_mesh_free(cube);
 }
 
+/* The plate's two faces with holes triangulated, as a boolean outputs them. */
+static KatachiMesh *make_boolean_plate(void)
+{
+    KatachiMesh *plate = NULL, *split = NULL;
+    KatachiMeshCounts c = katachi_mesh_counts_default();
+    uint32_t origin[64];
+    katachi_mesh_create(PLATE_POSITIONS, 16, PLATE_LOOP_SIZES, 12, PLATE_FACE_LOOP_COUNTS, 10,
+                        PLATE_CORNERS, 48, &plate);
+    CHECK_OK("split faces with holes",
+             katachi_mesh_split_faces_with_holes(plate, &split, origin, 64));
+    CHECK_OK("split counts", katachi_mesh_counts(split, &c));
+    CHECK("16 simple faces", c.face_count == 16 && c.loop_count == 16);
+    CHECK("first faces come from face 0", origin[0] == 0);
+    katachi_mesh_free(split);
+    CHECK_ERR("split: short origin buffer",
+              katachi_mesh_split_faces_with_holes(plate, &split, origin, 3),
+              KATACHI_STATUS_BUFFER_TOO_SMALL, "face_origin");
+    CHECK("split: out NULL after failure", split == NULL);
+    CHECK_OK("split without origins", katachi_mesh_split_faces_with_holes(plate, &split, NULL, 0));
+    katachi_mesh_free(plate);
+    return split;
+}
+
+static void test_recovery_and_features(void)
+{
+    KatachiMesh *split = make_boolean_plate();
+    KatachiMesh *merged = NULL, *tagged = NULL, *cube = make_cube();
+    KatachiMeshCounts c = katachi_mesh_counts_default();
+    KatachiSubdivideOptions o = katachi_subdivide_options_default();
+    KatachiSubdivision *s = NULL;
+    KatachiSubdivisionInfo info = katachi_subdivision_info_default();
+    char reason[8];
+
+    CHECK_OK("merge coplanar regions", katachi_merge_coplanar_regions(split, 1e-3, &merged));
+    CHECK_OK("merged counts", katachi_mesh_counts(merged, &c));
+    CHECK("faces with holes recovered", c.face_count == 10 && c.loop_count == 12);
+    CHECK_ERR("merge: bad tolerance", katachi_merge_coplanar_regions(split, 2.0, &tagged),
+              KATACHI_STATUS_BAD_INPUT, "angle");
+    CHECK_OK("tag feature edges", katachi_tag_feature_edges(cube, 30.0, &tagged));
+    CHECK_OK("tagged counts", katachi_mesh_counts(tagged, &c));
+    CHECK("all 12 cube edges are sharp at 30 degrees", c.sharp_edge_count == 12);
+    katachi_mesh_free(tagged);
+    tagged = NULL;
+    CHECK_ERR("tag: angle 0", katachi_tag_feature_edges(cube, 0.0, &tagged), KATACHI_STATUS_BAD_INPUT,
+              "angle");
+    CHECK("tag: out NULL", tagged == NULL);
+
+    o.recover_faces_with_holes = 1;
+    o.levels = 2;
+    CHECK_OK("subdivide a boolean's plate with recovery", katachi_subdivide(split, &o, &s));
+    CHECK_OK("info", katachi_subdivision_info(s, &info));
+    CHECK("method [a]: all quads, no fallback", info.face_count == 16 * 16 && info.fallback_face_count == 0);
+    CHECK("input counts refer to the caller's mesh", info.input_vertex_count == 16 && info.input_corner_count == 64);
+    CHECK_ERR("fallback reason: no such fallback",
+              katachi_subdivision_fallback_reason(s, 0, reason, sizeof reason),
+              KATACHI_STATUS_INVALID_ARGUMENT, "out of range");
+    katachi_subdivision_free(s);
+    o.recover_faces_with_holes = 3;
+    CHECK_ERR("bad recover flag", katachi_subdivide(split, &o, &s), KATACHI_STATUS_INVALID_ARGUMENT,
+              "recover_faces_with_holes");
+    o = katachi_subdivide_options_default();
+    o.feature_angle_degrees = 30.0;
+    CHECK_OK("subdivide with feature angle", katachi_subdivide(cube, &o, &s));
+    katachi_subdivision_free(s);
+    katachi_mesh_free(merged);
+    katachi_mesh_free(split);
+    katachi_mesh_free(cube);
+}
+
 int main(void)
 {
     printf("katachi %s, subdivision from C99\n", katachi_version_string());
     test_cube();
     test_plate_with_holes();
     test_bad_input();
+    test_recovery_and_features();
     return check_finish();
 }

@@ -5,6 +5,8 @@ use std::path::Path;
 
 use indicatif::{ProgressBar, ProgressStyle};
 use katachi::mesh::{inspect, shapes};
+use katachi::subdivide::holes::split_faces_with_holes;
+use katachi::subdivide::{catmull_clark, HoleMethod, SubdivideOptions};
 use katachi::{io, Error, PolyMesh};
 
 /// Bundled models (see `examples/models/README.md` for sources and licenses).
@@ -96,9 +98,80 @@ pub fn run(out: &Path) -> Result<(), Error> {
         bar.inc(1);
     }
     bar.finish_and_clear();
+    lines.extend(subdivision(out)?);
     for l in &lines {
         println!("{l}");
     }
     println!("results in {}", out.display());
     Ok(())
+}
+
+/// Subdivision (seed 001): a boolean's plate with a hole recovered as faces with holes and
+/// refined with methods [a] and [b]; a creased cube; a CAD part creased by feature angle;
+/// and beast.obj when the shared models are beside the project.
+fn subdivision(out: &Path) -> Result<Vec<String>, Error> {
+    let mut cases: Vec<(String, PolyMesh, SubdivideOptions)> = Vec::new();
+    let plate = shapes::boolean_plate(4.0, 2.0, 1.0);
+    for (name, method) in [
+        ("smooth_a", HoleMethod::Smooth),
+        ("sharp_b", HoleMethod::Sharp),
+    ] {
+        let mut o = SubdivideOptions::with_levels(3);
+        o.recover_faces_with_holes = true;
+        o.holes = method;
+        cases.push((format!("plate_with_hole_{name}"), plate.clone(), o));
+    }
+    let mut cube = shapes::cube(2.0);
+    let v: Vec<_> = cube.vertices().collect();
+    cube.set_edge_sharpnesses([
+        (v[0], v[1], 10.0),
+        (v[1], v[3], 10.0),
+        (v[3], v[2], 10.0),
+        (v[2], v[0], 10.0),
+        (v[4], v[5], 1.5),
+    ])?;
+    cases.push((
+        "cube_creased".into(),
+        cube,
+        SubdivideOptions::with_levels(3),
+    ));
+    let fandisk = io::read_bytes(
+        include_bytes!("../../../examples/models/fandisk_quads.off"),
+        io::Format::Off,
+        Path::new("fandisk_quads.off"),
+    )?;
+    let mut o = SubdivideOptions::with_levels(2);
+    o.feature_angle = Some(30.0);
+    cases.push(("fandisk_quads_feature30".into(), fandisk, o));
+    let beast = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/data/models/beast.obj");
+    if let Ok(mesh) = io::read(&beast) {
+        cases.push(("beast".into(), mesh, SubdivideOptions::with_levels(2)));
+    }
+    let mut lines = Vec::new();
+    for (name, mesh, o) in cases {
+        let r = catmull_clark(&mesh, &o)?;
+        let holes = r
+            .mesh
+            .faces()
+            .filter(|&f| r.mesh.face_loop_count(f) > 1)
+            .count();
+        let written = split_faces_with_holes(&r.mesh)?.0;
+        let path = out.join(format!("{name}.subdivided.obj"));
+        io::write(&path, &written)?;
+        lines.push(format!(
+            "{name}: subdivided {} levels: {} -> {} faces ({holes} faces with holes kept){}",
+            o.levels,
+            mesh.face_count(),
+            r.mesh.face_count(),
+            if r.report.fell_back_to_sharp.is_empty() {
+                String::new()
+            } else {
+                format!(
+                    ", {} fell back to method [b]",
+                    r.report.fell_back_to_sharp.len()
+                )
+            }
+        ));
+    }
+    Ok(lines)
 }

@@ -4,6 +4,7 @@ use std::path::PathBuf;
 
 use clap::ValueEnum;
 use indicatif::{ProgressBar, ProgressStyle};
+use katachi::subdivide::holes::split_faces_with_holes;
 use katachi::subdivide::{
     catmull_clark_with_progress, BoundaryInterpolation, CreaseMethod, HoleMethod, SubdivideOptions,
 };
@@ -47,6 +48,12 @@ pub struct Args {
     /// Semi-sharp crease rule.
     #[arg(long, value_enum, default_value_t = Crease::Uniform)]
     crease_method: Crease,
+    /// Recover faces with holes from coplanar regions first (a boolean's triangulated output).
+    #[arg(long)]
+    solid: bool,
+    /// Tag edges whose dihedral angle exceeds DEG degrees as sharp creases (CAD meshes).
+    #[arg(long, value_name = "DEG")]
+    feature_angle: Option<f64>,
 }
 
 /// Inputs at least this large show a progress bar.
@@ -67,6 +74,8 @@ pub fn run(args: &Args) -> Result<(), Error> {
         Crease::Uniform => CreaseMethod::Uniform,
         Crease::Chaikin => CreaseMethod::Chaikin,
     };
+    options.recover_faces_with_holes = args.solid;
+    options.feature_angle = args.feature_angle;
     let grows = (mesh.corner_count() as u64) << (2 * args.levels.saturating_sub(1).min(8));
     let bar = (grows >= PROGRESS_FACES as u64).then(|| {
         ProgressBar::new(args.levels as u64).with_style(
@@ -83,14 +92,28 @@ pub fn run(args: &Args) -> Result<(), Error> {
         b.finish_and_clear();
     }
     for (f, why) in &out.report.fell_back_to_sharp {
-        eprintln!("note: face {f}: {why}");
+        eprintln!("note: face {f}: method [a] could not bridge it ({why}); method [b] was used");
     }
-    io::write(&args.output, &out.mesh)?;
+    let holes = out
+        .mesh
+        .faces()
+        .filter(|&f| out.mesh.face_loop_count(f) > 1)
+        .count();
+    let mesh = if holes > 0 {
+        // OBJ, PLY and OFF store no faces with holes: cut them along their bridges.
+        eprintln!(
+            "note: {holes} faces with holes written as simple polygons cut along bridge edges"
+        );
+        split_faces_with_holes(&out.mesh)?.0
+    } else {
+        out.mesh
+    };
+    io::write(&args.output, &mesh)?;
     println!(
         "wrote {} ({} vertices, {} faces, {} levels)",
         args.output.display(),
-        out.mesh.vertex_count(),
-        out.mesh.face_count(),
+        mesh.vertex_count(),
+        mesh.face_count(),
         args.levels
     );
     Ok(())

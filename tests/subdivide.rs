@@ -455,3 +455,31 @@ fn bad_faces_with_holes_are_typed_errors_naming_the_face() {
         }
     }
 }
+
+/// The same bits whatever the thread count (rayon pools of 1, 2 and 5 threads).
+#[test]
+fn same_bits_whatever_the_thread_count() {
+    let mut m = shapes::torus(40, 24, 2.0, 0.5);
+    m.set_edge_sharpnesses([
+        (VertexId(0), VertexId(1), 1.5),
+        (VertexId(1), VertexId(2), 10.0),
+    ])
+    .unwrap();
+    let run = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        pool.install(|| {
+            let mut o = SubdivideOptions::with_levels(3);
+            o.crease_method = CreaseMethod::Chaikin;
+            catmull_clark(&m, &o).unwrap()
+        })
+    };
+    let one = run(1);
+    for t in [2, 5] {
+        let other = run(t);
+        assert_eq!(one.mesh, other.mesh, "{t} threads");
+        assert_eq!(one.face_origin, other.face_origin);
+    }
+}

@@ -28,8 +28,6 @@ pub use primvar::{Primvar, SparseRow};
 pub use refiner::{Refiner, Stencils};
 pub use regions::{merge_coplanar_regions, MergeOptions, Merged};
 
-use glam::DVec3;
-
 use crate::error::Result;
 use crate::mesh::{FaceId, PolyMesh};
 
@@ -62,19 +60,15 @@ pub fn catmull_clark(mesh: &PolyMesh, options: &SubdivideOptions) -> Result<Subd
     catmull_clark_with_progress(mesh, options, &mut |_, _| {})
 }
 
-/// [`catmull_clark`], calling `progress(steps_done, steps)` as it goes, for front ends that
-/// show progress on long work.
+/// [`catmull_clark`], calling `progress(levels_done, levels)` after each level, for front
+/// ends that show progress on long work.
 pub fn catmull_clark_with_progress(
     mesh: &PolyMesh,
     options: &SubdivideOptions,
     progress: &mut dyn FnMut(u32, u32),
 ) -> Result<Subdivided> {
-    let total = 2 * options.levels;
-    let refiner = Refiner::with_progress(mesh, options, &mut |done, _| progress(done, total))?;
-    let positions: Vec<DVec3> = refiner
-        .interpolate_with_progress(mesh.positions(), &mut |done, _| {
-            progress(options.levels + done, total)
-        });
+    let (refiner, positions) = Refiner::build(mesh, options, Some(mesh.positions()), progress)?;
+    let positions = positions.expect("positions were given");
     let face_origin = refiner.face_origin();
     let report = refiner.report().clone();
     Ok(Subdivided {

@@ -5,7 +5,7 @@ use glam::{DVec2, DVec3};
 
 /// A value that subdivision combines linearly. One rule implementation serves every type,
 /// so positions, vertex data and stencils can never disagree.
-pub trait Primvar: Clone {
+pub trait Primvar: Clone + Send + Sync {
     /// The additive identity.
     fn zero() -> Self;
     /// `self += w · other`.

@@ -22,6 +22,7 @@ use super::crease::{self, Rule, SemiSharpAtVertex, Transitions};
 use super::level::Level;
 use super::options::CreaseMethod;
 use super::primvar::Primvar;
+use rayon::prelude::*;
 
 /// How a vertex point is made when the level has sharpness.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -162,21 +163,20 @@ pub(crate) fn plan(
 }
 
 /// Applies `step` to per-vertex values of `parent`: returns the child level's values
-/// (children of vertices, then of faces, then of edges).
+/// (children of vertices, then of faces, then of edges). Face points and vertex points are
+/// computed per element in parallel; the two scatter passes (vertex sums, edge points) run
+/// side by side, each in a fixed order, so the result does not depend on the thread count.
 pub(crate) fn interpolate<T: Primvar>(parent: &Level, step: &Step, values: &[T]) -> Vec<T> {
     let nv = parent.vertex_count as usize;
     let nf = parent.face_count() as usize;
     let ne = parent.edge_count() as usize;
-    let (f0, e0) = (nv, nv + step.refined);
     let mut out = vec![T::zero(); nv + step.refined + ne];
+    let (vertex_out, rest) = out.split_at_mut(nv);
+    let (face_out, edge_out) = rest.split_at_mut(step.refined);
 
     // Face points (seed §2: vertex average, or method [a]'s four bridge ends).
-    for f in 0..nf {
-        let fc = step.face_child[f];
-        if fc == u32::MAX {
-            continue;
-        }
-        let p = &mut out[f0 + fc as usize];
+    let face_point = |f: usize| {
+        let mut p = T::zero();
         match step.face_point_vertices.get(f).and_then(Option::as_ref) {
             Some(vs) => {
                 let w = 1.0 / vs.len() as f64;
@@ -192,97 +192,132 @@ pub(crate) fn interpolate<T: Primvar>(parent: &Level, step: &Step, values: &[T])
                 }
             }
         }
-    }
-
-    // Σ e_j + Σ f_j per vertex (eq. (2)); the vertex part of each edge point.
-    let sharp = !step.masks.is_empty();
-    let mut sum = vec![T::zero(); nv];
-    let (mut sharp_sum, mut child_sharp_sum) = if sharp {
-        (vec![T::zero(); nv], vec![T::zero(); nv])
-    } else {
-        (Vec::new(), Vec::new())
+        p
     };
-    for (e, &[a, b]) in parent.edge_verts.iter().enumerate() {
-        let (va, vb) = (&values[a as usize], &values[b as usize]);
-        sum[a as usize].add_scaled(vb, 1.0);
-        sum[b as usize].add_scaled(va, 1.0);
-        let s = parent.edge_sharpness[e];
-        let ep = &mut out[e0 + e];
-        if !crease::is_sharp(s) {
-            ep.add_scaled(va, 0.25);
-            ep.add_scaled(vb, 0.25);
-            continue;
+    if step.refined == nf {
+        face_out
+            .par_iter_mut()
+            .with_min_len(4096)
+            .enumerate()
+            .for_each(|(f, p)| *p = face_point(f));
+    } else {
+        for f in 0..nf {
+            let fc = step.face_child[f];
+            if fc != u32::MAX {
+                face_out[fc as usize] = face_point(f);
+            }
         }
-        let c = step.child_sharpness[e];
-        let w = if face_weight(s, c) == 0.0 {
-            0.5
+    }
+    let face_out = &*face_out;
+    let sharp = !step.masks.is_empty();
+
+    // Σ e_j + Σ f_j per vertex (eq. (2)), and the far ends of sharp edges; beside it, the
+    // edge points (eq. (1), midpoint, or the semi-sharp blend).
+    let vertex_sums = || {
+        let mut sum = vec![T::zero(); nv];
+        let (mut sharp_sum, mut child_sharp_sum) = if sharp {
+            (vec![T::zero(); nv], vec![T::zero(); nv])
         } else {
-            let sw = s as f64;
-            sw * 0.5 + (1.0 - sw) * 0.25
+            (Vec::new(), Vec::new())
         };
-        ep.add_scaled(va, w);
-        ep.add_scaled(vb, w);
-        sharp_sum[a as usize].add_scaled(vb, 1.0);
-        sharp_sum[b as usize].add_scaled(va, 1.0);
-        if crease::is_sharp(c[0]) {
-            child_sharp_sum[a as usize].add_scaled(vb, 1.0);
-        }
-        if crease::is_sharp(c[1]) {
-            child_sharp_sum[b as usize].add_scaled(va, 1.0);
-        }
-    }
-
-    // Scatter face points to vertices (eq. (2)) and edges (eq. (1)).
-    for f in 0..nf {
-        let fc = step.face_child[f];
-        if fc == u32::MAX {
-            continue;
-        }
-        let fp = out[f0 + fc as usize].clone();
-        for c in parent.face_corners(f) {
-            sum[parent.corner_verts[c] as usize].add_scaled(&fp, 1.0);
-            let e = parent.corner_edges[c] as usize;
-            let w = face_weight(parent.edge_sharpness[e], step.child_sharpness[e]);
-            if w != 0.0 {
-                out[e0 + e].add_scaled(&fp, w);
-            }
-        }
-    }
-
-    // Vertex points.
-    for v in 0..nv {
-        let p = &values[v];
-        let smooth = |into: &mut T, w: f64| {
-            let (edges, faces) = (step.vertex_edges[v], step.vertex_faces[v]);
-            if edges == 0 || faces != edges {
-                into.add_scaled(p, w); // isolated, or a fan the smooth rule does not apply to
-                return;
-            }
-            let n = edges as f64;
-            into.add_scaled(p, w * (n - 2.0) / n);
-            into.add_scaled(&sum[v], w / (n * n));
-        };
-        let apply = |into: &mut T, rule: Rule, sharp_sum: &T, w: f64| match rule {
-            Rule::Smooth => smooth(into, w),
-            Rule::Crease => {
-                into.add_scaled(sharp_sum, w / 8.0);
-                into.add_scaled(p, w * 0.75);
-            }
-            Rule::Corner => into.add_scaled(p, w),
-        };
-        let mut q = T::zero();
-        match step.masks.get(v) {
-            None => smooth(&mut q, 1.0),
-            Some(m) if m.rule == Rule::Smooth => smooth(&mut q, 1.0),
-            Some(m) => {
-                apply(&mut q, m.rule, &sharp_sum[v], m.weight);
-                if m.child_rule != m.rule {
-                    apply(&mut q, m.child_rule, &child_sharp_sum[v], 1.0 - m.weight);
+        for (e, &[a, b]) in parent.edge_verts.iter().enumerate() {
+            let (va, vb) = (&values[a as usize], &values[b as usize]);
+            sum[a as usize].add_scaled(vb, 1.0);
+            sum[b as usize].add_scaled(va, 1.0);
+            if sharp && crease::is_sharp(parent.edge_sharpness[e]) {
+                let c = step.child_sharpness[e];
+                sharp_sum[a as usize].add_scaled(vb, 1.0);
+                sharp_sum[b as usize].add_scaled(va, 1.0);
+                if crease::is_sharp(c[0]) {
+                    child_sharp_sum[a as usize].add_scaled(vb, 1.0);
+                }
+                if crease::is_sharp(c[1]) {
+                    child_sharp_sum[b as usize].add_scaled(va, 1.0);
                 }
             }
         }
-        out[v] = q;
-    }
+        for f in 0..nf {
+            let fc = step.face_child[f];
+            if fc == u32::MAX {
+                continue;
+            }
+            let fp = &face_out[fc as usize];
+            for c in parent.face_corners(f) {
+                sum[parent.corner_verts[c] as usize].add_scaled(fp, 1.0);
+            }
+        }
+        (sum, sharp_sum, child_sharp_sum)
+    };
+    let edge_points = |edge_out: &mut [T]| {
+        for (e, &[a, b]) in parent.edge_verts.iter().enumerate() {
+            let (va, vb) = (&values[a as usize], &values[b as usize]);
+            let s = parent.edge_sharpness[e];
+            let ep = &mut edge_out[e];
+            let w = if !crease::is_sharp(s) {
+                0.25
+            } else if face_weight(s, step.child_sharpness[e]) == 0.0 {
+                0.5
+            } else {
+                let sw = s as f64;
+                sw * 0.5 + (1.0 - sw) * 0.25
+            };
+            ep.add_scaled(va, w);
+            ep.add_scaled(vb, w);
+        }
+        for f in 0..nf {
+            let fc = step.face_child[f];
+            if fc == u32::MAX {
+                continue;
+            }
+            let fp = &face_out[fc as usize];
+            for c in parent.face_corners(f) {
+                let e = parent.corner_edges[c] as usize;
+                let w = face_weight(parent.edge_sharpness[e], step.child_sharpness[e]);
+                if w != 0.0 {
+                    edge_out[e].add_scaled(fp, w);
+                }
+            }
+        }
+    };
+    let ((sum, sharp_sum, child_sharp_sum), ()) =
+        rayon::join(vertex_sums, || edge_points(edge_out));
+
+    // Vertex points.
+    vertex_out
+        .par_iter_mut()
+        .with_min_len(4096)
+        .enumerate()
+        .for_each(|(v, q)| {
+            let p = &values[v];
+            let smooth = |into: &mut T, w: f64| {
+                let (edges, faces) = (step.vertex_edges[v], step.vertex_faces[v]);
+                if edges == 0 || faces != edges {
+                    into.add_scaled(p, w); // isolated, or a fan the smooth rule does not apply to
+                    return;
+                }
+                let n = edges as f64;
+                into.add_scaled(p, w * (n - 2.0) / n);
+                into.add_scaled(&sum[v], w / (n * n));
+            };
+            let apply = |into: &mut T, rule: Rule, sharp_sum: &T, w: f64| match rule {
+                Rule::Smooth => smooth(into, w),
+                Rule::Crease => {
+                    into.add_scaled(sharp_sum, w / 8.0);
+                    into.add_scaled(p, w * 0.75);
+                }
+                Rule::Corner => into.add_scaled(p, w),
+            };
+            match step.masks.get(v) {
+                None => smooth(q, 1.0),
+                Some(m) if m.rule == Rule::Smooth => smooth(q, 1.0),
+                Some(m) => {
+                    apply(q, m.rule, &sharp_sum[v], m.weight);
+                    if m.child_rule != m.rule {
+                        apply(q, m.child_rule, &child_sharp_sum[v], 1.0 - m.weight);
+                    }
+                }
+            }
+        });
     out
 }
 
@@ -305,49 +340,77 @@ pub(crate) fn child_level(parent: &Level, step: &Step, last: bool) -> Level {
     let mut interior: Vec<[u32; 2]> = Vec::new();
 
     if parent.face_kept.is_empty() {
-        // Every face splits into quads: write the arrays by index.
+        // Every face splits into quads, child face i = parent corner i: write the arrays by
+        // index, in parallel over chunks of faces (disjoint output ranges).
         let n = step.interior_edges;
         child.corner_verts = vec![0; 4 * n];
         if !last {
             child.corner_edges = vec![0; 4 * n];
-        }
-        child.face_origin = vec![0; n];
-        if !last {
             interior = vec![[0; 2]; n];
         }
-        let mut i = 0usize;
-        for f in 0..parent.face_count() as usize {
-            let cs = parent.face_corners(f);
-            let k = cs.len();
-            let origin = parent.face_origin[f];
-            for (j, c) in cs.clone().enumerate() {
-                let prev = if c == cs.start { cs.end - 1 } else { c - 1 };
-                let v = parent.corner_verts[c];
-                let (e, ep) = (parent.corner_edges[c], parent.corner_edges[prev]);
-                let q = 4 * (i + j);
-                // OpenSubdiv rotates a quad's children so that child j has its parent
-                // corner at position j; other polygons' children start at the corner.
-                let r = if k == 4 { j } else { 0 };
-                let verts = [v, ev(e), fv(f), ev(ep)];
-                for (t, &x) in verts.iter().enumerate() {
-                    child.corner_verts[q + (t + r) % 4] = x;
-                }
-                child.face_origin[i + j] = origin;
-                if !last {
-                    let edges = [
-                        half(e, v),
-                        (i + j) as u32,
-                        (i + (j + k - 1) % k) as u32,
-                        half(ep, v),
-                    ];
-                    for (t, &x) in edges.iter().enumerate() {
-                        child.corner_edges[q + (t + r) % 4] = x;
-                    }
-                    interior[i + j] = [fv(f), ev(e)];
-                }
-            }
-            i += k;
+        child.face_origin = vec![0; n];
+        let nf = parent.face_count() as usize;
+        let chunk = 8192;
+        let mut verts_rest = &mut child.corner_verts[..];
+        let mut edges_rest = &mut child.corner_edges[..];
+        let mut origin_rest = &mut child.face_origin[..];
+        let mut interior_rest = &mut interior[..];
+        let mut jobs = Vec::with_capacity(nf / chunk + 1);
+        for f0 in (0..nf).step_by(chunk) {
+            let f1 = (f0 + chunk).min(nf);
+            let (c0, c1) = (
+                parent.face_corners(f0).start,
+                parent.face_corners(f1 - 1).end,
+            );
+            let k = c1 - c0;
+            let (v, vr) = std::mem::take(&mut verts_rest).split_at_mut(4 * k);
+            let (e, er) = if last {
+                (&mut [][..], &mut [][..])
+            } else {
+                std::mem::take(&mut edges_rest).split_at_mut(4 * k)
+            };
+            let (o, or) = std::mem::take(&mut origin_rest).split_at_mut(k);
+            let (i, ir) = if last {
+                (&mut [][..], &mut [][..])
+            } else {
+                std::mem::take(&mut interior_rest).split_at_mut(k)
+            };
+            (verts_rest, edges_rest, origin_rest, interior_rest) = (vr, er, or, ir);
+            jobs.push((f0..f1, c0, v, e, o, i));
         }
+        jobs.into_par_iter()
+            .for_each(|(faces, c0, verts, edges, origin, inner)| {
+                for f in faces {
+                    let cs = parent.face_corners(f);
+                    let k = cs.len();
+                    let o = parent.face_origin[f];
+                    for (j, c) in cs.clone().enumerate() {
+                        let prev = if c == cs.start { cs.end - 1 } else { c - 1 };
+                        let v = parent.corner_verts[c];
+                        let (e, ep) = (parent.corner_edges[c], parent.corner_edges[prev]);
+                        let q = 4 * (c - c0);
+                        // OpenSubdiv rotates a quad's children so that child j has its parent
+                        // corner at position j; other polygons' children start at the corner.
+                        let r = if k == 4 { j } else { 0 };
+                        for (t, x) in [v, ev(e), fv(f), ev(ep)].into_iter().enumerate() {
+                            verts[q + (t + r) % 4] = x;
+                        }
+                        origin[c - c0] = o;
+                        if !last {
+                            let quad = [
+                                half(e, v),
+                                c as u32,
+                                (cs.start + (j + k - 1) % k) as u32,
+                                half(ep, v),
+                            ];
+                            for (t, x) in quad.into_iter().enumerate() {
+                                edges[q + (t + r) % 4] = x;
+                            }
+                            inner[c - c0] = [fv(f), ev(e)];
+                        }
+                    }
+                }
+            });
         child.loop_offsets = (0..=n as u32).map(|x| 4 * x).collect();
         child.face_loops = (0..=n as u32).collect();
     } else {

@@ -67,6 +67,18 @@ impl Refiner {
         options: &SubdivideOptions,
         progress: &mut dyn FnMut(u32, u32),
     ) -> Result<Refiner> {
+        Ok(Self::build(mesh, options, None, progress)?.0)
+    }
+
+    /// Builds the hierarchy and, when `positions` are given, interpolates them at the same
+    /// time: level l + 1's topology and level l's positions are independent, so they run in
+    /// parallel (`rayon::join`). The arithmetic is the same whatever the thread count.
+    pub(crate) fn build(
+        mesh: &PolyMesh,
+        options: &SubdivideOptions,
+        positions: Option<&[DVec3]>,
+        progress: &mut dyn FnMut(u32, u32),
+    ) -> Result<(Refiner, Option<Vec<DVec3>>)> {
         mesh.require_faces("subdivision")?;
         if options.levels == 0 || options.levels > 8 {
             return Err(Error::InvalidOption {
@@ -79,21 +91,35 @@ impl Refiner {
         let m0 = prepared.mesh(mesh);
         let keep = |f: u32| m0.face_loop_count(FaceId(f)) > 1;
         let mut levels = vec![Level::from_mesh(m0, options, &keep)?];
-        let mut steps = Vec::with_capacity(options.levels as usize);
-        for l in 0..options.levels {
-            let parent = levels.last().expect("level 0 exists");
-            let face_points = if l == 0 {
-                prepared.face_points.clone()
-            } else {
-                Vec::new()
-            };
-            let step = refine::plan(parent, options.crease_method, face_points);
-            let child = refine::child_level(parent, &step, l + 1 == options.levels);
-            steps.push(step);
+        let mut steps = vec![refine::plan(
+            &levels[0],
+            options.crease_method,
+            prepared.face_points.clone(),
+        )];
+        let mut pos: Option<Vec<DVec3>> = positions.map(|p| match &prepared.vertex_origin {
+            None => p.to_vec(),
+            Some(o) => o.iter().map(|&v| p[v as usize]).collect(),
+        });
+        for l in 0..options.levels as usize {
+            let last = l + 1 == options.levels as usize;
+            let (parent, step) = (&levels[l], &steps[l]);
+            let ((child, child_step), child_pos) = rayon::join(
+                || {
+                    let child = refine::child_level(parent, step, last);
+                    let s =
+                        (!last).then(|| refine::plan(&child, options.crease_method, Vec::new()));
+                    (child, s)
+                },
+                || pos.as_deref().map(|p| refine::interpolate(parent, step, p)),
+            );
             levels.push(child);
-            progress(l + 1, options.levels);
+            if let Some(s) = child_step {
+                steps.push(s);
+            }
+            pos = child_pos;
+            progress(l as u32 + 1, options.levels);
         }
-        Ok(Refiner {
+        let refiner = Refiner {
             levels,
             steps,
             options: options.clone(),
@@ -101,7 +127,8 @@ impl Refiner {
             prepared,
             input_vertices: mesh.vertex_count(),
             input_corners: mesh.corner_count(),
-        })
+        };
+        Ok((refiner, pos))
     }
 
     /// Number of levels.

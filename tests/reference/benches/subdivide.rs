@@ -1,4 +1,4 @@
-//! Catmull-Clark side by side in one run: katachi (one thread), OpenSubdiv 3.5 (Far refiner +
+//! Catmull-Clark side by side in one run: katachi (one thread and all cores), OpenSubdiv 3.5 (Far refiner +
 //! PrimvarRefinerReal<double>, one thread) and OpenMesh 9, levels 1-3, on a 200 × 160 quad
 //! torus (32k quads) and beast.obj. The reference libraries are timed inside the shim (their
 //! own work only); katachi is timed for the whole call, input to output mesh.
@@ -41,6 +41,10 @@ fn models() -> Vec<(&'static str, String, PolyMesh)> {
 }
 
 fn subdivide(c: &mut Criterion) {
+    let one_thread = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .unwrap();
     for (name, _, mesh) in models() {
         let rm = to_ref(&mesh);
         let mut g = c.benchmark_group(format!("catmull-clark {name}"));
@@ -49,9 +53,16 @@ fn subdivide(c: &mut Criterion) {
         g.measurement_time(Duration::from_secs(3));
         for level in 1..=3u32 {
             let o = SubdivideOptions::with_levels(level);
-            g.bench_with_input(BenchmarkId::new("katachi", level), &level, |b, _| {
-                b.iter(|| catmull_clark(&mesh, &o).unwrap())
-            });
+            g.bench_with_input(
+                BenchmarkId::new("katachi 1 thread", level),
+                &level,
+                |b, _| one_thread.install(|| b.iter(|| catmull_clark(&mesh, &o).unwrap())),
+            );
+            g.bench_with_input(
+                BenchmarkId::new("katachi all cores", level),
+                &level,
+                |b, _| b.iter(|| catmull_clark(&mesh, &o).unwrap()),
+            );
             g.bench_with_input(BenchmarkId::new("opensubdiv", level), &level, |b, &l| {
                 b.iter_custom(|iters| {
                     let mut total = Duration::ZERO;

@@ -118,11 +118,11 @@ enum KatachiHoleMethod
 #endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
  {
     /**
-     * Method [a]: bridge the loops, subdivide smoothly (the default).
+     * Method `[a]`: bridge the loops, subdivide smoothly (the default).
      */
     KATACHI_HOLE_METHOD_SMOOTH = 0,
     /**
-     * Method [b]: loop edges sharp, the face stays planar with its holes.
+     * Method `[b]`: loop edges sharp, the face stays planar with its holes.
      */
     KATACHI_HOLE_METHOD_SHARP = 1,
 };
@@ -445,7 +445,7 @@ typedef struct KatachiSubdivisionInfo {
      */
     uint32_t input_corner_count;
     /**
-     * Faces with holes that method [a] could not bridge and that method [b] refined instead.
+     * Faces with holes that method `[a]` could not bridge and that method `[b]` refined instead.
      */
     uint32_t fallback_face_count;
     /**
@@ -813,7 +813,7 @@ KatachiStatus katachi_mesh_read(const char *path, struct KatachiMesh **out);
 KatachiStatus katachi_mesh_write(const struct KatachiMesh *mesh, const char *path);
 
 /**
- * A `KatachiSubdivideOptions` holding the defaults (1 level, method [a], edge-only
+ * A `KatachiSubdivideOptions` holding the defaults (1 level, method `[a]`, edge-only
  * boundaries, uniform creases) and its `struct_size`.
  */
 struct KatachiSubdivideOptions katachi_subdivide_options_default(void);
@@ -877,7 +877,7 @@ KatachiStatus katachi_subdivision_copy_face_origin(const struct KatachiSubdivisi
                                                    size_t capacity);
 
 /**
- * Copies the faces with holes that method [a] could not bridge (refined with method [b]
+ * Copies the faces with holes that method `[a]` could not bridge (refined with method `[b]`
  * instead): `fallback_face_count` input face ids.
  *
  * # Safety
@@ -940,7 +940,7 @@ KatachiStatus katachi_subdivision_copy_stencils(const struct KatachiSubdivision 
                                                 size_t weights_capacity);
 
 /**
- * Copies the reason method [a] could not bridge fallback face number `index` (0 to
+ * Copies the reason method `[a]` could not bridge fallback face number `index` (0 to
  * `fallback_face_count` − 1) as a NUL-terminated UTF-8 string into `buffer`
  * (`capacity` bytes, terminator included; `(NULL, 0)` asks the size, reported as
  * `KATACHI_STATUS_BUFFER_TOO_SMALL` with the size in the message).

@@ -18,9 +18,9 @@ use crate::subdivide::{
 #[repr(u32)]
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum KatachiHoleMethod {
-    /// Method [a]: bridge the loops, subdivide smoothly (the default).
+    /// Method `[a]`: bridge the loops, subdivide smoothly (the default).
     Smooth = 0,
-    /// Method [b]: loop edges sharp, the face stays planar with its holes.
+    /// Method `[b]`: loop edges sharp, the face stays planar with its holes.
     Sharp = 1,
 }
 
@@ -114,7 +114,7 @@ pub struct KatachiSubdivisionInfo {
     pub input_vertex_count: u32,
     /// Face corners of the input (face-varying indices expected).
     pub input_corner_count: u32,
-    /// Faces with holes that method [a] could not bridge and that method [b] refined instead.
+    /// Faces with holes that method `[a]` could not bridge and that method `[b]` refined instead.
     pub fallback_face_count: u32,
     /// Entries of the stencil matrix (`katachi_subdivision_copy_stencils`).
     pub stencil_entry_count: u32,
@@ -143,7 +143,7 @@ pub struct KatachiSubdivision {
     stencils: std::sync::OnceLock<Stencils>,
 }
 
-/// A `KatachiSubdivideOptions` holding the defaults (1 level, method [a], edge-only
+/// A `KatachiSubdivideOptions` holding the defaults (1 level, method `[a]`, edge-only
 /// boundaries, uniform creases) and its `struct_size`.
 #[no_mangle]
 pub extern "C" fn katachi_subdivide_options_default() -> KatachiSubdivideOptions {
@@ -354,7 +354,7 @@ pub unsafe extern "C" fn katachi_subdivision_copy_face_origin(
     })
 }
 
-/// Copies the faces with holes that method [a] could not bridge (refined with method [b]
+/// Copies the faces with holes that method `[a]` could not bridge (refined with method `[b]`
 /// instead): `fallback_face_count` input face ids.
 ///
 /// # Safety
@@ -545,7 +545,7 @@ pub unsafe extern "C" fn katachi_subdivision_copy_stencils(
     })
 }
 
-/// Copies the reason method [a] could not bridge fallback face number `index` (0 to
+/// Copies the reason method `[a]` could not bridge fallback face number `index` (0 to
 /// `fallback_face_count` − 1) as a NUL-terminated UTF-8 string into `buffer`
 /// (`capacity` bytes, terminator included; `(NULL, 0)` asks the size, reported as
 /// `KATACHI_STATUS_BUFFER_TOO_SMALL` with the size in the message).

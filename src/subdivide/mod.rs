@@ -3,8 +3,8 @@
 //! creases and OpenSubdiv's boundary and non-manifold rules.
 //!
 //! [`catmull_clark`] refines any polygon mesh (triangles, quads, n-gons) and faces with holes
-//! (a P loop and C loops, seed 001 §1, §4): method [a] bridges the loops and subdivides smoothly,
-//! method [b] keeps the face planar with its loops as sharp crease curves.
+//! (a P loop and C loops, seed 001 §1, §4): method `[a]` bridges the loops and subdivides smoothly,
+//! method `[b]` keeps the face planar with its loops as sharp crease curves.
 //!
 //! Written by hand because no Rust crate does Catmull-Clark with semi-sharp creases, and
 //! none at all with faces with holes; OpenSubdiv is the reference it is tested against.
@@ -46,8 +46,8 @@ pub struct Subdivided {
 /// Notes on a subdivision.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct SubdivideReport {
-    /// Faces with holes that method [a] could not bridge and that were refined with
-    /// method [b] instead, each with the reason.
+    /// Faces with holes that method `[a]` could not bridge and that were refined with
+    /// method `[b]` instead, each with the reason.
     pub fell_back_to_sharp: Vec<(FaceId, String)>,
 }
 

@@ -5,11 +5,11 @@ use super::regions::MergeOptions;
 /// How faces with holes (a P loop and C loops, seed 001 §1, §4) are subdivided.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum HoleMethod {
-    /// Method [a], seed 001 §4: bridge each C loop to the P loop and subdivide smoothly;
+    /// Method `[a]`, seed 001 §4: bridge each C loop to the P loop and subdivide smoothly;
     /// loop vertices take valence n + 1 in eq. (2). Faces it cannot bridge fall back to
     /// [`HoleMethod::Sharp`] and are listed in the report.
     Smooth,
-    /// Method [b], seed 001 §4: P and C loop edges become sharp, the face stays one planar
+    /// Method `[b]`, seed 001 §4: P and C loop edges become sharp, the face stays one planar
     /// face with holes, and its loops become cubic B-spline crease curves.
     Sharp,
 }
@@ -41,7 +41,7 @@ pub enum CreaseMethod {
 pub struct SubdivideOptions {
     /// Number of subdivision levels, 1 or more. Default value: `1`.
     pub levels: u32,
-    /// Method for faces with holes. Default value: [`HoleMethod::Smooth`] (method [a]).
+    /// Method for faces with holes. Default value: [`HoleMethod::Smooth`] (method `[a]`).
     pub holes: HoleMethod,
     /// Boundary rule. Default value: [`BoundaryInterpolation::EdgeOnly`] (OpenSubdiv's default).
     pub boundary: BoundaryInterpolation,

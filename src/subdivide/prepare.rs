@@ -1,6 +1,6 @@
 //! The mesh that level 0 refines, made from the caller's: faces with holes checked,
 //! optionally recovered from coplanar regions and creased by feature angle, and bridged by
-//! method [a] (seed 001 §4) where possible. Keeps the maps back to the caller's vertices,
+//! method `[a]` (seed 001 §4) where possible. Keeps the maps back to the caller's vertices,
 //! faces and corners so that every attribute still refers to the caller's mesh.
 
 use std::collections::HashMap;
@@ -21,7 +21,7 @@ pub(crate) struct Prepared {
     pub vertex_origin: Option<Vec<u32>>,
     pub face_origin: Option<Vec<u32>>,
     pub corner_origin: Option<Vec<u32>>,
-    /// Per level-0 face: the vertices whose average is its face point (method [a]).
+    /// Per level-0 face: the vertices whose average is its face point (method `[a]`).
     pub face_points: Vec<Option<Vec<u32>>>,
 }
 
@@ -86,8 +86,8 @@ pub(crate) fn prepare(
     Ok(p)
 }
 
-/// Method [a]: replaces each face with holes by its bridged virtual faces; faces that cannot
-/// be bridged stay whole (method [b]) and are reported.
+/// Method `[a]`: replaces each face with holes by its bridged virtual faces; faces that cannot
+/// be bridged stay whole (method `[b]`) and are reported.
 fn bridge(p: &mut Prepared, input: &PolyMesh, report: &mut SubdivideReport) -> Result<()> {
     let mesh = p.mesh(input);
     let mut faces: Vec<Vec<Vec<u32>>> = Vec::with_capacity(mesh.face_count() as usize);

@@ -48,7 +48,7 @@ pub(crate) struct Step {
     /// Per vertex, when the level has any sharpness.
     pub masks: Vec<VertexMask>,
     /// Per parent face, the vertices whose average is its face point when that is not the
-    /// face's own vertex average (method [a]'s virtual faces, seed 001 §4).
+    /// face's own vertex average (method `[a]`'s virtual faces, seed 001 §4).
     pub face_point_vertices: Vec<Option<Vec<u32>>>,
 }
 

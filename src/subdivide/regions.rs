@@ -12,7 +12,7 @@
 //! # Algorithm
 //!
 //! Merging across an edge whose two faces have the same normal is the seed's own test for an
-//! "unnecessary element" (seed 001 §4, method [b]: 両側に法線ベクトルの方向が等しい二つの
+//! "unnecessary element" (seed 001 §4, method `[b]`: 両側に法線ベクトルの方向が等しい二つの
 //! 平面をもつ稜線), made tolerant and made to hold for a whole region, not one edge.
 //!
 //! 1. **Regions grow** from seeds taken in face-id order (the lowest face not yet in a region,

@@ -11,6 +11,7 @@ pub fn run(args: &[&str]) -> Result<(), String> {
     let skip_c = args.contains(&"--no-c");
     let start = Instant::now();
     let mut steps: Vec<(&str, Step)> = vec![
+        ("system packages", Box::new(|| crate::deps::run(&[]))),
         (
             "format",
             Box::new(|| {
@@ -31,6 +32,16 @@ pub fn run(args: &[&str]) -> Result<(), String> {
             }),
         ),
         ("header", Box::new(crate::header::check)),
+        (
+            "docs",
+            Box::new(|| {
+                util::run(
+                    Command::new(util::cargo())
+                        .args(["doc", "--no-deps", "-p", "katachi"])
+                        .env("RUSTDOCFLAGS", "-D warnings"),
+                )
+            }),
+        ),
         (
             "cargo test",
             Box::new(|| util::run(Command::new(util::cargo()).args(["test", "--workspace"]))),

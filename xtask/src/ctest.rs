@@ -228,7 +228,10 @@ fn compile(p: &Program, exe: &Path, lib_dir: &Path) -> Result<(), String> {
 fn run_program(p: &Program, exe: &Path, valgrind: bool) -> Result<u64, String> {
     let mut cmd = if valgrind {
         let mut c = Command::new("valgrind");
-        c.args(VALGRIND_FLAGS).arg(exe);
+        let supp = root().join("tests/c/valgrind.supp");
+        c.args(VALGRIND_FLAGS)
+            .arg(format!("--suppressions={}", supp.display()))
+            .arg(exe);
         c
     } else {
         Command::new(exe)

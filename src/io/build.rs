@@ -149,3 +149,37 @@ impl RawMesh {
         })
     }
 }
+
+/// The three coordinates of vertex `v` from the next tokens of line `line` of `path`;
+/// `fewer` is the message when the line has fewer than three.
+pub(crate) fn parse_xyz<'a>(
+    toks: &mut impl Iterator<Item = &'a [u8]>,
+    path: &Path,
+    line: usize,
+    v: u64,
+    fewer: &dyn Fn() -> String,
+) -> crate::error::Result<glam::DVec3> {
+    use super::text::{not_finite, parse_f64, show};
+    let mut xyz = [0.0; 3];
+    for (axis, c) in ["x", "y", "z"].into_iter().zip(xyz.iter_mut()) {
+        let t = toks.next().ok_or_else(|| at_line(path, line, fewer()))?;
+        *c = parse_f64(t).ok_or_else(|| {
+            at_line(
+                path,
+                line,
+                format!("vertex {v}: coordinate {axis} {} is not a number", show(t)),
+            )
+        })?;
+        if !c.is_finite() {
+            return Err(at_line(
+                path,
+                line,
+                format!(
+                    "vertex {v}: {}",
+                    not_finite(&format!("coordinate {axis}"), *c)
+                ),
+            ));
+        }
+    }
+    Ok(glam::DVec3::from_array(xyz))
+}

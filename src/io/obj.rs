@@ -45,10 +45,8 @@
 use std::io::{BufWriter, Write};
 use std::path::Path;
 
-use glam::DVec3;
-
-use super::build::{at_line, Element, Location, RawMesh, MAX_ELEMENTS};
-use super::text::{self, not_finite, parse_f64, parse_i64, show, strip_comment, Float, Lines};
+use super::build::{at_line, parse_xyz, Element, Location, RawMesh, MAX_ELEMENTS};
+use super::text::{self, parse_f64, parse_i64, show, strip_comment, Float, Lines};
 use super::{io_error, reject_holes, Format, WRITER_PATH};
 use crate::error::{Error, Result};
 use crate::mesh::{PolyMesh, VertexId};
@@ -103,36 +101,10 @@ pub fn read_bytes(bytes: &[u8], path: &Path) -> Result<PolyMesh> {
                         format!("more than {MAX_ELEMENTS} vertices, more than katachi's 32-bit indices address"),
                     ));
                 }
-                let mut xyz = [0.0; 3];
-                for (axis, c) in ["x", "y", "z"].into_iter().zip(xyz.iter_mut()) {
-                    let t = toks.next().ok_or_else(|| {
-                        at_line(
-                            path,
-                            no,
-                            format!(
-                                "vertex {v}: a 'v' line needs 3 coordinates, this one has fewer"
-                            ),
-                        )
-                    })?;
-                    *c = parse_f64(t).ok_or_else(|| {
-                        at_line(
-                            path,
-                            no,
-                            format!("vertex {v}: coordinate {axis} {} is not a number", show(t)),
-                        )
-                    })?;
-                    if !c.is_finite() {
-                        return Err(at_line(
-                            path,
-                            no,
-                            format!(
-                                "vertex {v}: {}",
-                                not_finite(&format!("coordinate {axis}"), *c)
-                            ),
-                        ));
-                    }
-                }
-                raw.positions.push(DVec3::from_array(xyz));
+                let p = parse_xyz(&mut toks, path, no, v as u64, &|| {
+                    format!("vertex {v}: a 'v' line needs 3 coordinates, this one has fewer")
+                })?;
+                raw.positions.push(p);
             }
             b"f" | b"fo" => {
                 let face = raw.face_count();

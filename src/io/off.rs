@@ -18,10 +18,8 @@
 use std::io::{BufWriter, Write};
 use std::path::Path;
 
-use glam::DVec3;
-
-use super::build::{at_line, Element, Location, RawMesh, MAX_ELEMENTS};
-use super::text::{self, not_finite, parse_f64, show, strip_comment, Float, Lines};
+use super::build::{at_line, parse_xyz, Element, Location, RawMesh, MAX_ELEMENTS};
+use super::text::{self, show, strip_comment, Float, Lines};
 use super::{io_error, reject_holes, Format, WRITER_PATH};
 use crate::error::Result;
 use crate::mesh::{PolyMesh, VertexId};
@@ -148,30 +146,10 @@ pub fn read_bytes(bytes: &[u8], path: &Path) -> Result<PolyMesh> {
             ));
         };
         let mut toks = text::tokens(l);
-        let mut xyz = [0.0; 3];
-        for (axis, c) in ["x", "y", "z"].into_iter().zip(xyz.iter_mut()) {
-            let t = toks
-                .next()
-                .ok_or_else(|| at_line(path, no, format!("vertex {v}: expected 3 coordinates")))?;
-            *c = parse_f64(t).ok_or_else(|| {
-                at_line(
-                    path,
-                    no,
-                    format!("vertex {v}: coordinate {axis} {} is not a number", show(t)),
-                )
-            })?;
-            if !c.is_finite() {
-                return Err(at_line(
-                    path,
-                    no,
-                    format!(
-                        "vertex {v}: {}",
-                        not_finite(&format!("coordinate {axis}"), *c)
-                    ),
-                ));
-            }
-        }
-        raw.positions.push(DVec3::from_array(xyz));
+        let p = parse_xyz(&mut toks, path, no, v, &|| {
+            format!("vertex {v}: expected 3 coordinates")
+        })?;
+        raw.positions.push(p);
     }
     for f in 0..nf {
         let (no, l) = next();

@@ -473,16 +473,22 @@ pub(crate) fn child_level(parent: &Level, step: &Step, last: bool) -> Level {
     }
 
     let n = child.vertex_count as usize;
-    child.vertex_sharpness = Vec::with_capacity(n);
-    child.vertex_sharpness.extend(
-        parent
-            .vertex_sharpness
-            .iter()
-            .map(|&s| crease::decrement(s)),
-    );
-    child.vertex_sharpness.resize(n, 0.0);
-    child.vertex_forced = parent.vertex_forced.clone();
-    child.vertex_forced.resize(n, false);
+    if parent.vertex_sharpness.iter().any(|&s| s != 0.0) || parent.vertex_forced.contains(&true) {
+        child.vertex_sharpness = Vec::with_capacity(n);
+        child.vertex_sharpness.extend(
+            parent
+                .vertex_sharpness
+                .iter()
+                .map(|&s| crease::decrement(s)),
+        );
+        child.vertex_sharpness.resize(n, 0.0);
+        child.vertex_forced = parent.vertex_forced.clone();
+        child.vertex_forced.resize(n, false);
+    } else {
+        // Zeroed allocations cost nothing until touched.
+        child.vertex_sharpness = vec![0.0; n];
+        child.vertex_forced = vec![false; n];
+    }
 
     if last {
         // Only the creases that remain, for the output mesh.

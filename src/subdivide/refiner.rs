@@ -276,12 +276,20 @@ impl Refiner {
             .iter()
             .map(|&([a, b], s)| ((a.min(b), a.max(b)), s as f64))
             .collect();
-        let vertex_sharpness = level
+        // Only when some vertex keeps a user's sharpness: the zeroed default costs nothing.
+        let user_sharp = level
             .vertex_sharpness
             .iter()
             .zip(&level.vertex_forced)
-            .map(|(&s, &forced)| if forced { 0.0 } else { s as f64 })
-            .collect();
+            .any(|(&s, &forced)| s > 0.0 && !forced);
+        let vertex_sharpness: Option<Vec<f64>> = user_sharp.then(|| {
+            level
+                .vertex_sharpness
+                .iter()
+                .zip(&level.vertex_forced)
+                .map(|(&s, &forced)| if forced { 0.0 } else { s as f64 })
+                .collect()
+        });
         let corners = level.corner_verts.into_iter().map(VertexId).collect();
         let mut mesh = PolyMesh::from_parts_unchecked(
             positions,
@@ -290,7 +298,9 @@ impl Refiner {
             corners,
         );
         mesh.attributes.edge_sharpness = edge_sharpness;
-        mesh.attributes.vertex_sharpness = vertex_sharpness;
+        if let Some(vs) = vertex_sharpness {
+            mesh.attributes.vertex_sharpness = vs;
+        }
         mesh
     }
 }

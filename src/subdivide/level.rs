@@ -10,6 +10,7 @@ use super::crease::INFINITE;
 use super::options::{BoundaryInterpolation, SubdivideOptions};
 use crate::error::Result;
 use crate::mesh::PolyMesh;
+use rayon::prelude::*;
 
 #[derive(Debug, Clone, Default)]
 pub(crate) struct Level {
@@ -29,6 +30,9 @@ pub(crate) struct Level {
     pub vertex_sharpness: Vec<f32>,
     /// Pinned because of topology (boundary corner, non-manifold vertex).
     pub vertex_forced: Vec<bool>,
+    /// Whether any vertex has sharpness > 0 (user's or forced), so that smooth levels skip
+    /// every per-vertex sharpness pass.
+    pub any_vertex_sharp: bool,
     /// Faces kept whole (faces with holes under method [b]): not split, loops refined.
     /// Empty when no face is kept.
     pub face_kept: Vec<bool>,
@@ -180,9 +184,14 @@ impl Level {
             tail[a + 1..b].copy_from_slice(&corners[a..b - 1]);
             tail[a] = corners[b - 1];
         }
-        for v in 0..nv {
-            let b = &at[start[v] as usize..start[v + 1] as usize];
-            if !single_fan(b, &head, &tail) {
+        // One fan per vertex, checked in parallel (each vertex on its own).
+        let fans: Vec<bool> = (0..nv)
+            .into_par_iter()
+            .with_min_len(4096)
+            .map(|v| single_fan(&at[start[v] as usize..start[v + 1] as usize], &head, &tail))
+            .collect();
+        for (v, single) in fans.into_iter().enumerate() {
+            if !single {
                 vertex_forced[v] = true;
             }
         }
@@ -192,7 +201,9 @@ impl Level {
             }
         }
         debug_assert_eq!(edge_sharpness.len(), ne);
+        let any_vertex_sharp = vertex_sharpness.iter().any(|&s| s > 0.0);
         Ok(Level {
+            any_vertex_sharp,
             vertex_count: nv as u32,
             face_loops,
             loop_offsets,

@@ -74,28 +74,42 @@ pub(crate) fn plan(
     let nv = parent.vertex_count as usize;
     let nf = parent.face_count() as usize;
     let ne = parent.edge_count() as usize;
-    let mut face_child = vec![u32::MAX; nf];
-    let mut refined = 0usize;
-    let mut interior_edges = 0usize;
-    let mut vertex_faces = vec![0u32; nv];
-    for f in 0..nf {
-        if !parent.is_kept(f) {
-            face_child[f] = refined as u32;
-            refined += 1;
-            let cs = parent.face_corners(f);
-            interior_edges += cs.len();
-            for c in cs {
-                vertex_faces[parent.corner_verts[c] as usize] += 1;
+    // Three independent passes, side by side.
+    let faces_pass = || {
+        let mut face_child = vec![u32::MAX; nf];
+        let mut refined = 0usize;
+        let mut interior_edges = 0usize;
+        let mut vertex_faces = vec![0u32; nv];
+        for f in 0..nf {
+            if !parent.is_kept(f) {
+                face_child[f] = refined as u32;
+                refined += 1;
+                let cs = parent.face_corners(f);
+                interior_edges += cs.len();
+                for c in cs {
+                    vertex_faces[parent.corner_verts[c] as usize] += 1;
+                }
             }
         }
-    }
-    let mut vertex_edges = vec![0u32; nv];
-    for &[a, b] in &parent.edge_verts {
-        vertex_edges[a as usize] += 1;
-        vertex_edges[b as usize] += 1;
-    }
-    let any_sharp = parent.edge_sharpness.iter().any(|&s| crease::is_sharp(s))
-        || parent.vertex_sharpness.iter().any(|&s| crease::is_sharp(s));
+        (face_child, refined, interior_edges, vertex_faces)
+    };
+    let edges_pass = || {
+        let mut vertex_edges = vec![0u32; nv];
+        for &[a, b] in &parent.edge_verts {
+            vertex_edges[a as usize] += 1;
+            vertex_edges[b as usize] += 1;
+        }
+        vertex_edges
+    };
+    let sharp_pass = || {
+        parent
+            .edge_sharpness
+            .par_iter()
+            .any(|&s| crease::is_sharp(s))
+            || parent.any_vertex_sharp
+    };
+    let ((face_child, refined, interior_edges, vertex_faces), (vertex_edges, any_sharp)) =
+        rayon::join(faces_pass, || rayon::join(edges_pass, sharp_pass));
     let mut child_sharpness = vec![[0f32; 2]; ne];
     let mut masks = Vec::new();
     if any_sharp {
@@ -473,7 +487,7 @@ pub(crate) fn child_level(parent: &Level, step: &Step, last: bool) -> Level {
     }
 
     let n = child.vertex_count as usize;
-    if parent.vertex_sharpness.iter().any(|&s| s != 0.0) || parent.vertex_forced.contains(&true) {
+    if parent.any_vertex_sharp {
         child.vertex_sharpness = Vec::with_capacity(n);
         child.vertex_sharpness.extend(
             parent
@@ -484,6 +498,7 @@ pub(crate) fn child_level(parent: &Level, step: &Step, last: bool) -> Level {
         child.vertex_sharpness.resize(n, 0.0);
         child.vertex_forced = parent.vertex_forced.clone();
         child.vertex_forced.resize(n, false);
+        child.any_vertex_sharp = child.vertex_sharpness.iter().any(|&s| s > 0.0);
     } else {
         // Zeroed allocations cost nothing until touched.
         child.vertex_sharpness = vec![0.0; n];

@@ -266,7 +266,8 @@ impl Refiner {
     /// [`Refiner::mesh`], consuming the refiner to reuse its arrays.
     pub fn into_mesh(mut self, positions: Vec<DVec3>) -> PolyMesh {
         let last = self.levels.pop().expect("a refiner has levels");
-        Self::assemble(last, positions)
+        // Freeing the other levels (unmapping their pages) overlaps the assembly.
+        rayon::join(move || drop(self), || Self::assemble(last, positions)).1
     }
 
     fn assemble(level: Level, positions: Vec<DVec3>) -> PolyMesh {
@@ -277,11 +278,12 @@ impl Refiner {
             .map(|&([a, b], s)| ((a.min(b), a.max(b)), s as f64))
             .collect();
         // Only when some vertex keeps a user's sharpness: the zeroed default costs nothing.
-        let user_sharp = level
-            .vertex_sharpness
-            .iter()
-            .zip(&level.vertex_forced)
-            .any(|(&s, &forced)| s > 0.0 && !forced);
+        let user_sharp = level.any_vertex_sharp
+            && level
+                .vertex_sharpness
+                .iter()
+                .zip(&level.vertex_forced)
+                .any(|(&s, &forced)| s > 0.0 && !forced);
         let vertex_sharpness: Option<Vec<f64>> = user_sharp.then(|| {
             level
                 .vertex_sharpness

@@ -34,10 +34,13 @@ use crate::mesh::{FaceId, PolyMesh};
 /// What [`catmull_clark`] returns.
 #[derive(Debug, Clone)]
 pub struct Subdivided {
-    /// The refined mesh. Vertex order at each level: children of vertices (so the first #V
-    /// vertices correspond to the input's), then of faces, then of edges — OpenSubdiv's order.
+    /// The refined mesh. Vertex order at each level: children of vertices, then of faces,
+    /// then of edges — OpenSubdiv's order — so the first #V vertices correspond to the
+    /// input's (after `recover_faces_with_holes`, to the input vertices the recovery kept, in
+    /// their order: vertices used only inside a merged region are gone).
     pub mesh: PolyMesh,
-    /// For each output face, the input face it comes from (materials, face data follow).
+    /// For each output face, the input face it comes from (materials, face data follow);
+    /// after `recover_faces_with_holes`, the lowest input face of its merged region.
     pub face_origin: Vec<FaceId>,
     /// What was done differently from what was asked, face by face.
     pub report: SubdivideReport,

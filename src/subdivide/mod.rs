@@ -72,10 +72,10 @@ pub fn catmull_clark_with_progress(
 ) -> Result<Subdivided> {
     let (refiner, positions) = Refiner::build(mesh, options, Some(mesh.positions()), progress)?;
     let positions = positions.expect("positions were given");
-    let face_origin = refiner.face_origin();
     let report = refiner.report().clone();
+    let (mesh, face_origin) = refiner.into_parts(positions);
     Ok(Subdivided {
-        mesh: refiner.into_mesh(positions),
+        mesh,
         face_origin,
         report,
     })

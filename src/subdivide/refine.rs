@@ -524,20 +524,30 @@ pub(crate) fn child_level(parent: &Level, step: &Step, last: bool) -> Level {
     }
 
     let interior_count = interior.len();
+    let total = interior_count + 2 * ne;
     child.edge_verts = interior;
     child.edge_verts.reserve(2 * ne);
-    child.edge_sharpness = vec![0.0; interior_count];
-    child.edge_sharpness.reserve(2 * ne);
-    child.edge_forced = vec![false; interior_count];
-    child.edge_forced.reserve(2 * ne);
     for (e, &[a, b]) in parent.edge_verts.iter().enumerate() {
         let m = ev(e as u32);
         child.edge_verts.extend_from_slice(&[[m, a], [m, b]]);
-        child
-            .edge_sharpness
-            .extend_from_slice(&step.child_sharpness[e]);
-        let forced = parent.edge_forced[e];
-        child.edge_forced.extend_from_slice(&[forced, forced]);
+    }
+    if step.masks.is_empty() {
+        // No sharp or forced edge in the parent (forced edges are infinitely sharp), so none
+        // in the child: zeroed allocations, untouched.
+        child.edge_sharpness = vec![0.0; total];
+        child.edge_forced = vec![false; total];
+    } else {
+        child.edge_sharpness = vec![0.0; interior_count];
+        child.edge_sharpness.reserve(2 * ne);
+        child.edge_forced = vec![false; interior_count];
+        child.edge_forced.reserve(2 * ne);
+        for e in 0..ne {
+            child
+                .edge_sharpness
+                .extend_from_slice(&step.child_sharpness[e]);
+            let forced = parent.edge_forced[e];
+            child.edge_forced.extend_from_slice(&[forced, forced]);
+        }
     }
     child
 }

@@ -264,10 +264,23 @@ impl Refiner {
     }
 
     /// [`Refiner::mesh`], consuming the refiner to reuse its arrays.
-    pub fn into_mesh(mut self, positions: Vec<DVec3>) -> PolyMesh {
-        let last = self.levels.pop().expect("a refiner has levels");
+    pub fn into_mesh(self, positions: Vec<DVec3>) -> PolyMesh {
+        self.into_parts(positions).0
+    }
+
+    /// The output mesh and [`Refiner::face_origin`], consuming the refiner: its arrays become
+    /// the result's without copies.
+    pub(crate) fn into_parts(mut self, positions: Vec<DVec3>) -> (PolyMesh, Vec<FaceId>) {
+        let mut last = self.levels.pop().expect("a refiner has levels");
+        let origin = std::mem::take(&mut last.face_origin);
+        let face_origin: Vec<FaceId> = match self.prepared.face_origin.take() {
+            // u32 → FaceId in place (same layout).
+            None => origin.into_iter().map(FaceId).collect(),
+            Some(o) => origin.into_iter().map(|f| FaceId(o[f as usize])).collect(),
+        };
         // Freeing the other levels (unmapping their pages) overlaps the assembly.
-        rayon::join(move || drop(self), || Self::assemble(last, positions)).1
+        let mesh = rayon::join(move || drop(self), || Self::assemble(last, positions)).1;
+        (mesh, face_origin)
     }
 
     fn assemble(level: Level, positions: Vec<DVec3>) -> PolyMesh {

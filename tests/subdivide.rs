@@ -274,35 +274,7 @@ fn method_b_loops_are_cubic_b_spline_curves() {
 #[test]
 fn method_a_square_in_square_equals_the_explicitly_bridged_mesh() {
     let plate = shapes::plate_with_hole(4.0, 2.0, 1.0);
-    // Bridge by hand: top face outer 4..8 with hole 12..16, bottom 0..4 with hole 8..12.
-    let mut faces: Vec<Vec<u32>> = Vec::new();
-    for f in plate.faces() {
-        let loops: Vec<Vec<u32>> = plate
-            .face_loops(f)
-            .map(|l| plate.loop_vertices(l).iter().map(|v| v.0).collect())
-            .collect();
-        if loops.len() == 1 {
-            faces.push(loops[0].clone());
-            continue;
-        }
-        let (p, c) = (&loops[0], &loops[1]);
-        for a in 0..4 {
-            // Nearest hole vertex of each outer corner: the one at the same (x, y) direction.
-            let near = |pv: u32| -> u32 {
-                *c.iter()
-                    .min_by(|&&x, &&y| {
-                        let d = |q: u32| {
-                            (plate.position(VertexId(q)) - plate.position(VertexId(pv))).length()
-                        };
-                        d(x).total_cmp(&d(y))
-                    })
-                    .unwrap()
-            };
-            let (p0, p1) = (p[a], p[(a + 1) % 4]);
-            faces.push(vec![p0, p1, near(p1), near(p0)]);
-        }
-    }
-    let explicit = PolyMesh::from_polygons(plate.positions().to_vec(), &faces).unwrap();
+    let explicit = shapes::bridged_plate(4.0, 2.0, 1.0);
     for levels in 1..=3 {
         let a = catmull_clark(&plate, &with_holes(HoleMethod::Smooth, levels)).unwrap();
         assert!(a.report.fell_back_to_sharp.is_empty(), "{:?}", a.report);

@@ -119,26 +119,24 @@ pub fn plate_with_hole(size: f64, hole: f64, thickness: f64) -> PolyMesh {
     PolyMesh::from_faces_with_holes(p, faces).expect("generated shapes are valid")
 }
 
-/// [`plate_with_hole`] as a CAD boolean (box minus box) outputs it: every face triangulated,
-/// each annulus cut into 8 triangles between its outer and hole corners. 16 vertices,
-/// 32 triangles, genus 1; `merge_coplanar_regions` turns it back into the plate.
-pub fn boolean_plate(size: f64, hole: f64, thickness: f64) -> PolyMesh {
+/// [`plate_with_hole`] with each face with holes cut into four trapezoids by the bridges
+/// from its outer corners to the nearest hole corners (spec §5.4: the mesh on which method
+/// \[a\] equals plain Catmull-Clark). 16 vertices, 16 quads, genus 1.
+pub fn bridged_plate(size: f64, hole: f64, thickness: f64) -> PolyMesh {
     let plate = plate_with_hole(size, hole, thickness);
-    let mut tris: Vec<[u32; 3]> = Vec::with_capacity(32);
+    let pos = |v: u32| plate.positions()[v as usize];
+    let mut faces: Vec<Vec<u32>> = Vec::with_capacity(16);
     for f in plate.faces() {
         let loops: Vec<Vec<u32>> = plate
             .face_loops(f)
             .map(|l| plate.loop_vertices(l).iter().map(|v| v.0).collect())
             .collect();
         if loops.len() == 1 {
-            let q = &loops[0];
-            tris.push([q[0], q[1], q[2]]);
-            tris.push([q[0], q[2], q[3]]);
+            faces.push(loops[0].clone());
             continue;
         }
-        // Outer corner i sits diagonally outside hole corner `near(i)` (same quadrant).
+        // Outer corner i sits diagonally outside its nearest hole corner (same quadrant).
         let (p, c) = (&loops[0], &loops[1]);
-        let pos = |v: u32| plate.positions()[v as usize];
         let near = |pv: u32| -> u32 {
             *c.iter()
                 .min_by(|&&x, &&y| {
@@ -150,12 +148,23 @@ pub fn boolean_plate(size: f64, hole: f64, thickness: f64) -> PolyMesh {
         };
         for a in 0..4 {
             let (p0, p1) = (p[a], p[(a + 1) % 4]);
-            tris.push([p0, p1, near(p1)]);
-            tris.push([p0, near(p1), near(p0)]);
+            faces.push(vec![p0, p1, near(p1), near(p0)]);
         }
     }
-    build(
-        plate.positions().to_vec(),
-        tris.iter().map(|t| t.to_vec()).collect(),
-    )
+    build(plate.positions().to_vec(), faces)
+}
+
+/// [`plate_with_hole`] as a CAD boolean (box minus box) outputs it: every face triangulated
+/// (the [`bridged_plate`] quads split along a diagonal). 16 vertices, 32 triangles, genus 1;
+/// `merge_coplanar_regions` turns it back into the plate.
+pub fn boolean_plate(size: f64, hole: f64, thickness: f64) -> PolyMesh {
+    let quads = bridged_plate(size, hole, thickness);
+    let tris: Vec<Vec<u32>> = quads
+        .faces()
+        .flat_map(|f| {
+            let q: Vec<u32> = quads.face_outer(f).iter().map(|v| v.0).collect();
+            [vec![q[0], q[1], q[2]], vec![q[0], q[2], q[3]]]
+        })
+        .collect();
+    build(quads.positions().to_vec(), tris)
 }

@@ -355,7 +355,9 @@ pub(crate) fn child_level(parent: &Level, step: &Step, last: bool) -> Level {
 
     if parent.face_kept.is_empty() {
         // Every face splits into quads, child face i = parent corner i: write the arrays by
-        // index, in parallel over chunks of faces (disjoint output ranges).
+        // index, in parallel over chunks of faces (disjoint output ranges). The quads are the
+        // general path's below, written inline: a shared helper measured 8-25% slower here
+        // (array rotation, edges computed for the last level).
         let n = step.interior_edges;
         child.corner_verts = vec![0; 4 * n];
         if !last {

@@ -397,33 +397,7 @@ mod glam_like {
 fn method_a_square_in_square_equals_opensubdiv_on_the_bridged_mesh() {
     use katachi::subdivide::HoleMethod;
     let plate = shapes::plate_with_hole(4.0, 2.0, 1.0);
-    let pos = |v: u32| plate.positions()[v as usize];
-    let mut faces: Vec<Vec<u32>> = Vec::new();
-    for f in plate.faces() {
-        let loops: Vec<Vec<u32>> = plate
-            .face_loops(f)
-            .map(|l| plate.loop_vertices(l).iter().map(|v| v.0).collect())
-            .collect();
-        if loops.len() == 1 {
-            faces.push(loops[0].clone());
-            continue;
-        }
-        let (p, c) = (&loops[0], &loops[1]);
-        let near = |pv: u32| {
-            *c.iter()
-                .min_by(|&&x, &&y| {
-                    (pos(x) - pos(pv))
-                        .length()
-                        .total_cmp(&(pos(y) - pos(pv)).length())
-                })
-                .unwrap()
-        };
-        for a in 0..4 {
-            let (p0, p1) = (p[a], p[(a + 1) % 4]);
-            faces.push(vec![p0, p1, near(p1), near(p0)]);
-        }
-    }
-    let bridged = PolyMesh::from_polygons(plate.positions().to_vec(), &faces).unwrap();
+    let bridged = shapes::bridged_plate(4.0, 2.0, 1.0);
     let (rm, rc) = to_ref(&bridged);
     let d = diag(&plate);
     let key = |p: [f64; 3]| p.map(|c| (c / d * 1e9).round() as i64);

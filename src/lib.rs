@@ -19,6 +19,7 @@
 pub mod error;
 pub mod ffi;
 pub mod io;
+mod mem;
 pub mod mesh;
 pub mod subdivide;
 

@@ -22,6 +22,7 @@ use super::crease::{self, Rule, SemiSharpAtVertex, Transitions};
 use super::level::Level;
 use super::options::CreaseMethod;
 use super::primvar::Primvar;
+use crate::mem;
 use rayon::prelude::*;
 
 /// How a vertex point is made when the level has sharpness.
@@ -76,10 +77,10 @@ pub(crate) fn plan(
     let ne = parent.edge_count() as usize;
     // Three independent passes, side by side.
     let faces_pass = || {
-        let mut face_child = vec![u32::MAX; nf];
+        let mut face_child = mem::filled(nf, u32::MAX);
         let mut refined = 0usize;
         let mut interior_edges = 0usize;
-        let mut vertex_faces = vec![0u32; nv];
+        let mut vertex_faces = mem::filled(nv, 0u32);
         for f in 0..nf {
             if !parent.is_kept(f) {
                 face_child[f] = refined as u32;
@@ -94,7 +95,7 @@ pub(crate) fn plan(
         (face_child, refined, interior_edges, vertex_faces)
     };
     let edges_pass = || {
-        let mut vertex_edges = vec![0u32; nv];
+        let mut vertex_edges = mem::filled(nv, 0u32);
         for &[a, b] in &parent.edge_verts {
             vertex_edges[a as usize] += 1;
             vertex_edges[b as usize] += 1;
@@ -110,7 +111,7 @@ pub(crate) fn plan(
     };
     let ((face_child, refined, interior_edges, vertex_faces), (vertex_edges, any_sharp)) =
         rayon::join(faces_pass, || rayon::join(edges_pass, sharp_pass));
-    let mut child_sharpness = vec![[0f32; 2]; ne];
+    let mut child_sharpness = mem::filled(ne, [0f32; 2]);
     let mut masks = Vec::new();
     if any_sharp {
         // Chaikin needs, at each vertex, the sum and count of its semi-sharp edges.
@@ -184,7 +185,7 @@ pub(crate) fn interpolate<T: Primvar>(parent: &Level, step: &Step, values: &[T])
     let nv = parent.vertex_count as usize;
     let nf = parent.face_count() as usize;
     let ne = parent.edge_count() as usize;
-    let mut out = vec![T::zero(); nv + step.refined + ne];
+    let mut out = mem::filled(nv + step.refined + ne, T::zero());
     let (vertex_out, rest) = out.split_at_mut(nv);
     let (face_out, edge_out) = rest.split_at_mut(step.refined);
 
@@ -228,9 +229,9 @@ pub(crate) fn interpolate<T: Primvar>(parent: &Level, step: &Step, values: &[T])
     // Σ e_j + Σ f_j per vertex (eq. (2)), and the far ends of sharp edges; beside it, the
     // edge points (eq. (1), midpoint, or the semi-sharp blend).
     let vertex_sums = || {
-        let mut sum = vec![T::zero(); nv];
+        let mut sum = mem::filled(nv, T::zero());
         let (mut sharp_sum, mut child_sharp_sum) = if sharp {
-            (vec![T::zero(); nv], vec![T::zero(); nv])
+            (mem::filled(nv, T::zero()), mem::filled(nv, T::zero()))
         } else {
             (Vec::new(), Vec::new())
         };
@@ -359,12 +360,14 @@ pub(crate) fn child_level(parent: &Level, step: &Step, last: bool) -> Level {
         // general path's below, written inline: a shared helper measured 8-25% slower here
         // (array rotation, edges computed for the last level).
         let n = step.interior_edges;
-        child.corner_verts = vec![0; 4 * n];
+        child.corner_verts = mem::filled(4 * n, 0);
         if !last {
-            child.corner_edges = vec![0; 4 * n];
-            interior = vec![[0; 2]; n];
+            child.corner_edges = mem::filled(4 * n, 0);
+            // Room for the split edges appended below.
+            interior = mem::with_capacity(n + 2 * ne);
+            interior.resize(n, [0; 2]);
         }
-        child.face_origin = vec![0; n];
+        child.face_origin = mem::filled(n, 0);
         let nf = parent.face_count() as usize;
         let chunk = 8192;
         let mut verts_rest = &mut child.corner_verts[..];
@@ -427,8 +430,10 @@ pub(crate) fn child_level(parent: &Level, step: &Step, last: bool) -> Level {
                     }
                 }
             });
-        child.loop_offsets = (0..=n as u32).map(|x| 4 * x).collect();
-        child.face_loops = (0..=n as u32).collect();
+        child.loop_offsets = mem::with_capacity(n + 1);
+        child.loop_offsets.extend((0..=n as u32).map(|x| 4 * x));
+        child.face_loops = mem::with_capacity(n + 1);
+        child.face_loops.extend(0..=n as u32);
     } else {
         child.face_loops.push(0);
         child.loop_offsets.push(0);

@@ -368,7 +368,8 @@ pub struct RefTimings {
     /// OpenSubdiv: `RefineUniform` (topology of all levels). OpenMesh: `CatmullClarkT` (topology
     /// and positions together).
     pub refine: Duration,
-    /// OpenSubdiv: `PrimvarRefinerReal<double>::Interpolate` of the positions, all levels.
+    /// OpenSubdiv: `PrimvarRefinerReal<double>::Interpolate` of the positions, all levels,
+    /// with the allocation of each level's destination buffer.
     /// OpenMesh: zero (counted in `refine`).
     pub interpolate: Duration,
 }

@@ -9,6 +9,7 @@
 use super::crease::INFINITE;
 use super::options::{BoundaryInterpolation, SubdivideOptions};
 use crate::error::Result;
+use crate::mem::Buf;
 use crate::mesh::PolyMesh;
 use rayon::prelude::*;
 
@@ -16,20 +17,20 @@ use rayon::prelude::*;
 pub(crate) struct Level {
     pub vertex_count: u32,
     /// F + 1 offsets into `loop_offsets`.
-    pub face_loops: Vec<u32>,
+    pub face_loops: Buf<u32>,
     /// L + 1 offsets into the corner arrays.
-    pub loop_offsets: Vec<u32>,
-    pub corner_verts: Vec<u32>,
+    pub loop_offsets: Buf<u32>,
+    pub corner_verts: Buf<u32>,
     /// The edge from each corner to the next corner of its loop.
-    pub corner_edges: Vec<u32>,
-    pub edge_verts: Vec<[u32; 2]>,
+    pub corner_edges: Buf<u32>,
+    pub edge_verts: Buf<[u32; 2]>,
     /// User sharpness, or [`INFINITE`] where `edge_forced` is set.
-    pub edge_sharpness: Vec<f32>,
+    pub edge_sharpness: Buf<f32>,
     /// Sharp because of topology (boundary, non-manifold), not because the user said so.
-    pub edge_forced: Vec<bool>,
-    pub vertex_sharpness: Vec<f32>,
+    pub edge_forced: Buf<bool>,
+    pub vertex_sharpness: Buf<f32>,
     /// Pinned because of topology (boundary corner, non-manifold vertex).
-    pub vertex_forced: Vec<bool>,
+    pub vertex_forced: Buf<bool>,
     /// Whether any vertex has sharpness > 0 (user's or forced), so that smooth levels skip
     /// every per-vertex sharpness pass.
     pub any_vertex_sharp: bool,
@@ -37,7 +38,7 @@ pub(crate) struct Level {
     /// Empty when no face is kept.
     pub face_kept: Vec<bool>,
     /// Input face each face descends from.
-    pub face_origin: Vec<u32>,
+    pub face_origin: Buf<u32>,
     /// In a last level (built without edges): the edges that are still creased.
     pub last_creases: Vec<([u32; 2], f32)>,
 }
@@ -205,21 +206,21 @@ impl Level {
         Ok(Level {
             any_vertex_sharp,
             vertex_count: nv as u32,
-            face_loops,
-            loop_offsets,
-            corner_verts: corners,
-            corner_edges,
-            edge_verts,
-            edge_sharpness,
-            edge_forced,
-            vertex_sharpness,
-            vertex_forced,
+            face_loops: face_loops.into(),
+            loop_offsets: loop_offsets.into(),
+            corner_verts: corners.into(),
+            corner_edges: corner_edges.into(),
+            edge_verts: edge_verts.into(),
+            edge_sharpness: edge_sharpness.into(),
+            edge_forced: edge_forced.into(),
+            vertex_sharpness: vertex_sharpness.into(),
+            vertex_forced: vertex_forced.into(),
             face_kept: if face_kept.contains(&true) {
                 face_kept
             } else {
                 Vec::new()
             },
-            face_origin: (0..face_count as u32).collect(),
+            face_origin: (0..face_count as u32).collect::<Vec<_>>().into(),
             last_creases: Vec::new(),
         })
     }

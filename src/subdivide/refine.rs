@@ -22,7 +22,7 @@ use super::crease::{self, Rule, SemiSharpAtVertex, Transitions};
 use super::level::Level;
 use super::options::CreaseMethod;
 use super::primvar::Primvar;
-use crate::mem;
+use crate::mem::{self, Buf};
 use rayon::prelude::*;
 
 /// How a vertex point is made when the level has sharpness.
@@ -38,14 +38,14 @@ pub(crate) struct VertexMask {
 #[derive(Debug, Clone)]
 pub(crate) struct Step {
     /// Parent face → index among the split faces, `u32::MAX` for kept faces.
-    pub face_child: Vec<u32>,
+    pub face_child: Buf<u32>,
     pub refined: usize,
     pub interior_edges: usize,
     /// Per parent edge, the sharpness of its two halves (zeros when the level is smooth).
-    pub child_sharpness: Vec<[f32; 2]>,
+    pub child_sharpness: Buf<[f32; 2]>,
     /// Per vertex: number of incident edges and of incident split faces.
-    pub vertex_edges: Vec<u32>,
-    pub vertex_faces: Vec<u32>,
+    pub vertex_edges: Buf<u32>,
+    pub vertex_faces: Buf<u32>,
     /// Per vertex, when the level has any sharpness.
     pub masks: Vec<VertexMask>,
     /// Per parent face, the vertices whose average is its face point when that is not the
@@ -77,10 +77,10 @@ pub(crate) fn plan(
     let ne = parent.edge_count() as usize;
     // Three independent passes, side by side.
     let faces_pass = || {
-        let mut face_child = mem::filled(nf, u32::MAX);
+        let mut face_child = Buf::filled(nf, u32::MAX);
         let mut refined = 0usize;
         let mut interior_edges = 0usize;
-        let mut vertex_faces = mem::filled(nv, 0u32);
+        let mut vertex_faces = Buf::<u32>::zeroed(nv);
         for f in 0..nf {
             if !parent.is_kept(f) {
                 face_child[f] = refined as u32;
@@ -95,8 +95,8 @@ pub(crate) fn plan(
         (face_child, refined, interior_edges, vertex_faces)
     };
     let edges_pass = || {
-        let mut vertex_edges = mem::filled(nv, 0u32);
-        for &[a, b] in &parent.edge_verts {
+        let mut vertex_edges = Buf::<u32>::zeroed(nv);
+        for &[a, b] in parent.edge_verts.iter() {
             vertex_edges[a as usize] += 1;
             vertex_edges[b as usize] += 1;
         }
@@ -111,7 +111,7 @@ pub(crate) fn plan(
     };
     let ((face_child, refined, interior_edges, vertex_faces), (vertex_edges, any_sharp)) =
         rayon::join(faces_pass, || rayon::join(edges_pass, sharp_pass));
-    let mut child_sharpness = mem::filled(ne, [0f32; 2]);
+    let mut child_sharpness = Buf::<[f32; 2]>::zeroed(ne);
     let mut masks = Vec::new();
     if any_sharp {
         // Chaikin needs, at each vertex, the sum and count of its semi-sharp edges.
@@ -181,11 +181,22 @@ pub(crate) fn plan(
 /// (children of vertices, then of faces, then of edges). Face points and vertex points are
 /// computed per element in parallel; the two scatter passes (vertex sums, edge points) run
 /// side by side, each in a fixed order, so the result does not depend on the thread count.
-pub(crate) fn interpolate<T: Primvar>(parent: &Level, step: &Step, values: &[T]) -> Vec<T> {
+/// `output`: the values are handed to the caller (an ordinary `Vec` inside the `Buf`).
+pub(crate) fn interpolate<T: Primvar>(
+    parent: &Level,
+    step: &Step,
+    values: &[T],
+    output: bool,
+) -> Buf<T> {
     let nv = parent.vertex_count as usize;
     let nf = parent.face_count() as usize;
     let ne = parent.edge_count() as usize;
-    let mut out = mem::filled(nv + step.refined + ne, T::zero());
+    let n = nv + step.refined + ne;
+    let mut out = if output {
+        Buf::from(mem::filled(n, T::zero()))
+    } else {
+        Buf::filled(n, T::zero())
+    };
     let (vertex_out, rest) = out.split_at_mut(nv);
     let (face_out, edge_out) = rest.split_at_mut(step.refined);
 
@@ -229,11 +240,11 @@ pub(crate) fn interpolate<T: Primvar>(parent: &Level, step: &Step, values: &[T])
     // Σ e_j + Σ f_j per vertex (eq. (2)), and the far ends of sharp edges; beside it, the
     // edge points (eq. (1), midpoint, or the semi-sharp blend).
     let vertex_sums = || {
-        let mut sum = mem::filled(nv, T::zero());
+        let mut sum = Buf::filled(nv, T::zero());
         let (mut sharp_sum, mut child_sharp_sum) = if sharp {
-            (mem::filled(nv, T::zero()), mem::filled(nv, T::zero()))
+            (Buf::filled(nv, T::zero()), Buf::filled(nv, T::zero()))
         } else {
-            (Vec::new(), Vec::new())
+            (Buf::default(), Buf::default())
         };
         for (e, &[a, b]) in parent.edge_verts.iter().enumerate() {
             let (va, vb) = (&values[a as usize], &values[b as usize]);
@@ -337,7 +348,8 @@ pub(crate) fn interpolate<T: Primvar>(parent: &Level, step: &Step, values: &[T])
 }
 
 /// The child level's faces, edges and sharpness. For the last level (`last`), the child's
-/// edges are not built: only faces and the creases that remain.
+/// edges are not built: only faces and the creases that remain. The last level's faces are
+/// handed to the caller, so they are ordinary `Vec`s; the other arrays are [`Buf`]s.
 pub(crate) fn child_level(parent: &Level, step: &Step, last: bool) -> Level {
     let nv = parent.vertex_count;
     let ne = parent.edge_count() as usize;
@@ -352,7 +364,10 @@ pub(crate) fn child_level(parent: &Level, step: &Step, last: bool) -> Level {
         vertex_count: nv + face_points + ne as u32,
         ..Default::default()
     };
-    let mut interior: Vec<[u32; 2]> = Vec::new();
+    // Child edges: the interior ones (face point to edge point) first, then the two halves
+    // of each parent edge.
+    let mut edge_verts: Buf<[u32; 2]>;
+    let interior_count;
 
     if parent.face_kept.is_empty() {
         // Every face splits into quads, child face i = parent corner i: write the arrays by
@@ -360,20 +375,31 @@ pub(crate) fn child_level(parent: &Level, step: &Step, last: bool) -> Level {
         // general path's below, written inline: a shared helper measured 8-25% slower here
         // (array rotation, edges computed for the last level).
         let n = step.interior_edges;
-        child.corner_verts = mem::filled(4 * n, 0);
+        interior_count = n;
+        let output_or_buf = |len: usize| {
+            if last {
+                Buf::from(mem::filled(len, 0u32))
+            } else {
+                Buf::zeroed(len)
+            }
+        };
+        child.corner_verts = output_or_buf(4 * n);
+        child.face_origin = output_or_buf(n);
+        edge_verts = Buf::default();
         if !last {
-            child.corner_edges = mem::filled(4 * n, 0);
-            // Room for the split edges appended below.
-            interior = mem::with_capacity(n + 2 * ne);
-            interior.resize(n, [0; 2]);
+            child.corner_edges = Buf::zeroed(4 * n);
+            edge_verts = Buf::zeroed(n + 2 * ne);
         }
-        child.face_origin = mem::filled(n, 0);
         let nf = parent.face_count() as usize;
         let chunk = 8192;
         let mut verts_rest = &mut child.corner_verts[..];
         let mut edges_rest = &mut child.corner_edges[..];
         let mut origin_rest = &mut child.face_origin[..];
-        let mut interior_rest = &mut interior[..];
+        let mut interior_rest = if last {
+            &mut [][..]
+        } else {
+            &mut edge_verts[..n]
+        };
         let mut jobs = Vec::with_capacity(nf / chunk + 1);
         for f0 in (0..nf).step_by(chunk) {
             let f1 = (f0 + chunk).min(nf);
@@ -430,13 +456,27 @@ pub(crate) fn child_level(parent: &Level, step: &Step, last: bool) -> Level {
                     }
                 }
             });
-        child.loop_offsets = mem::with_capacity(n + 1);
-        child.loop_offsets.extend((0..=n as u32).map(|x| 4 * x));
-        child.face_loops = mem::with_capacity(n + 1);
-        child.face_loops.extend(0..=n as u32);
+        if last {
+            let mut offsets = mem::with_capacity(n + 1);
+            offsets.extend((0..=n as u32).map(|x| 4 * x));
+            let mut loops = mem::with_capacity(n + 1);
+            loops.extend(0..=n as u32);
+            (child.loop_offsets, child.face_loops) = (offsets.into(), loops.into());
+        } else {
+            let mut offsets = Buf::<u32>::zeroed(n + 1);
+            let mut loops = Buf::<u32>::zeroed(n + 1);
+            for (i, (o, l)) in offsets.iter_mut().zip(loops.iter_mut()).enumerate() {
+                (*o, *l) = (4 * i as u32, i as u32);
+            }
+            (child.loop_offsets, child.face_loops) = (offsets, loops);
+        }
     } else {
-        child.face_loops.push(0);
-        child.loop_offsets.push(0);
+        let mut face_loops = vec![0];
+        let mut loop_offsets = vec![0];
+        let mut corner_verts = Vec::new();
+        let mut corner_edges = Vec::new();
+        let mut face_origin = Vec::new();
+        let mut interior = Vec::new();
         for f in 0..parent.face_count() as usize {
             let origin = parent.face_origin[f];
             if parent.is_kept(f) {
@@ -454,16 +494,14 @@ pub(crate) fn child_level(parent: &Level, step: &Step, last: bool) -> Level {
                         let v = parent.corner_verts[c];
                         let next = parent.corner_verts[if c + 1 < b { c + 1 } else { a }];
                         let e = parent.corner_edges[c];
-                        child.corner_verts.extend_from_slice(&[v, ev(e)]);
-                        child
-                            .corner_edges
-                            .extend_from_slice(&[half(e, v), half(e, next)]);
+                        corner_verts.extend_from_slice(&[v, ev(e)]);
+                        corner_edges.extend_from_slice(&[half(e, v), half(e, next)]);
                     }
-                    child.loop_offsets.push(child.corner_verts.len() as u32);
+                    loop_offsets.push(corner_verts.len() as u32);
                 }
-                child.face_loops.push(child.loop_offsets.len() as u32 - 1);
+                face_loops.push(loop_offsets.len() as u32 - 1);
                 child.face_kept.push(true);
-                child.face_origin.push(origin);
+                face_origin.push(origin);
                 continue;
             }
             let cs = parent.face_corners(f);
@@ -480,41 +518,52 @@ pub(crate) fn child_level(parent: &Level, step: &Step, last: bool) -> Level {
                     verts.rotate_right(j as usize);
                     edges.rotate_right(j as usize);
                 }
-                child.corner_verts.extend_from_slice(&verts);
-                child.corner_edges.extend_from_slice(&edges);
-                child.loop_offsets.push(child.corner_verts.len() as u32);
-                child.face_loops.push(child.loop_offsets.len() as u32 - 1);
+                corner_verts.extend_from_slice(&verts);
+                corner_edges.extend_from_slice(&edges);
+                loop_offsets.push(corner_verts.len() as u32);
+                face_loops.push(loop_offsets.len() as u32 - 1);
                 child.face_kept.push(false);
-                child.face_origin.push(origin);
+                face_origin.push(origin);
             }
             for c in cs {
                 interior.push([fv(f), ev(parent.corner_edges[c])]);
             }
         }
+        interior_count = interior.len();
+        if !last {
+            interior.resize(interior_count + 2 * ne, [0; 2]);
+            child.corner_edges = corner_edges.into();
+        }
+        edge_verts = interior.into();
+        child.face_loops = face_loops.into();
+        child.loop_offsets = loop_offsets.into();
+        child.corner_verts = corner_verts.into();
+        child.face_origin = face_origin.into();
     }
 
     let n = child.vertex_count as usize;
     if parent.any_vertex_sharp {
-        child.vertex_sharpness = Vec::with_capacity(n);
-        child.vertex_sharpness.extend(
+        let mut sharpness = Vec::with_capacity(n);
+        sharpness.extend(
             parent
                 .vertex_sharpness
                 .iter()
                 .map(|&s| crease::decrement(s)),
         );
-        child.vertex_sharpness.resize(n, 0.0);
-        child.vertex_forced = parent.vertex_forced.clone();
-        child.vertex_forced.resize(n, false);
-        child.any_vertex_sharp = child.vertex_sharpness.iter().any(|&s| s > 0.0);
+        sharpness.resize(n, 0.0);
+        let mut forced = parent.vertex_forced.to_vec();
+        forced.resize(n, false);
+        child.any_vertex_sharp = sharpness.iter().any(|&s| s > 0.0);
+        child.vertex_sharpness = sharpness.into();
+        child.vertex_forced = forced.into();
     } else {
-        // Zeroed allocations cost nothing until touched.
-        child.vertex_sharpness = vec![0.0; n];
-        child.vertex_forced = vec![false; n];
+        // Zeroed arrays cost nothing until touched.
+        child.vertex_sharpness = Buf::zeroed(n);
+        child.vertex_forced = Buf::zeroed(n);
     }
 
     if last {
         // Only the creases that remain, for the output mesh.
-        child.corner_edges = Vec::new();
         for (e, &[a, b]) in parent.edge_verts.iter().enumerate() {
             if parent.edge_forced[e] {
                 continue;
@@ -530,31 +579,35 @@ pub(crate) fn child_level(parent: &Level, step: &Step, last: bool) -> Level {
         return child;
     }
 
-    let interior_count = interior.len();
     let total = interior_count + 2 * ne;
-    child.edge_verts = interior;
-    child.edge_verts.reserve(2 * ne);
-    for (e, &[a, b]) in parent.edge_verts.iter().enumerate() {
-        let m = ev(e as u32);
-        child.edge_verts.extend_from_slice(&[[m, a], [m, b]]);
-    }
+    debug_assert_eq!(edge_verts.len(), total);
+    edge_verts[interior_count..]
+        .par_chunks_mut(2)
+        .with_min_len(4096)
+        .zip(parent.edge_verts.par_iter())
+        .enumerate()
+        .for_each(|(e, (halves, &[a, b]))| {
+            let m = ev(e as u32);
+            halves.copy_from_slice(&[[m, a], [m, b]]);
+        });
+    child.edge_verts = edge_verts;
     if step.masks.is_empty() {
         // No sharp or forced edge in the parent (forced edges are infinitely sharp), so none
-        // in the child: zeroed allocations, untouched.
-        child.edge_sharpness = vec![0.0; total];
-        child.edge_forced = vec![false; total];
+        // in the child: zeroed arrays, untouched.
+        child.edge_sharpness = Buf::zeroed(total);
+        child.edge_forced = Buf::zeroed(total);
     } else {
-        child.edge_sharpness = vec![0.0; interior_count];
-        child.edge_sharpness.reserve(2 * ne);
-        child.edge_forced = vec![false; interior_count];
-        child.edge_forced.reserve(2 * ne);
+        let mut sharpness = vec![0.0; interior_count];
+        sharpness.reserve(2 * ne);
+        let mut forced = vec![false; interior_count];
+        forced.reserve(2 * ne);
         for e in 0..ne {
-            child
-                .edge_sharpness
-                .extend_from_slice(&step.child_sharpness[e]);
-            let forced = parent.edge_forced[e];
-            child.edge_forced.extend_from_slice(&[forced, forced]);
+            sharpness.extend_from_slice(&step.child_sharpness[e]);
+            let f = parent.edge_forced[e];
+            forced.extend_from_slice(&[f, f]);
         }
+        child.edge_sharpness = sharpness.into();
+        child.edge_forced = forced.into();
     }
     child
 }

@@ -14,6 +14,7 @@ use super::primvar::{Primvar, SparseRow};
 use super::refine::{self, Step};
 use super::SubdivideReport;
 use crate::error::{Error, Result};
+use crate::mem::Buf;
 use crate::mesh::{FaceId, PolyMesh, VertexId};
 
 /// The refined topology of a mesh, every level kept, ready to interpolate data.
@@ -96,9 +97,9 @@ impl Refiner {
             options.crease_method,
             prepared.face_points.clone(),
         )];
-        let mut pos: Option<Vec<DVec3>> = positions.map(|p| match &prepared.vertex_origin {
-            None => p.to_vec(),
-            Some(o) => o.iter().map(|&v| p[v as usize]).collect(),
+        let mut pos: Option<Buf<DVec3>> = positions.map(|p| match &prepared.vertex_origin {
+            None => p.to_vec().into(),
+            Some(o) => o.iter().map(|&v| p[v as usize]).collect::<Vec<_>>().into(),
         });
         for l in 0..options.levels as usize {
             let last = l + 1 == options.levels as usize;
@@ -110,7 +111,10 @@ impl Refiner {
                         (!last).then(|| refine::plan(&child, options.crease_method, Vec::new()));
                     (child, s)
                 },
-                || pos.as_deref().map(|p| refine::interpolate(parent, step, p)),
+                || {
+                    pos.as_deref()
+                        .map(|p| refine::interpolate(parent, step, p, last))
+                },
             );
             levels.push(child);
             if let Some(s) = child_step {
@@ -128,7 +132,7 @@ impl Refiner {
             input_vertices: mesh.vertex_count(),
             input_corners: mesh.corner_count(),
         };
-        Ok((refiner, pos))
+        Ok((refiner, pos.map(Buf::into_vec)))
     }
 
     /// Number of levels.
@@ -208,13 +212,14 @@ impl Refiner {
                 &mapped
             }
         };
-        let mut cur = refine::interpolate(&self.levels[0], &self.steps[0], values);
+        let mut cur = refine::interpolate(&self.levels[0], &self.steps[0], values, n == 1);
         progress(1, n);
         for l in 1..n as usize {
-            cur = refine::interpolate(&self.levels[l], &self.steps[l], &cur);
+            let last = l + 1 == n as usize;
+            cur = refine::interpolate(&self.levels[l], &self.steps[l], &cur, last);
             progress(l as u32 + 1, n);
         }
-        cur
+        cur.into_vec()
     }
 
     /// The stencil matrix from input vertices to output vertices.
@@ -272,7 +277,7 @@ impl Refiner {
     /// the result's without copies.
     pub(crate) fn into_parts(mut self, positions: Vec<DVec3>) -> (PolyMesh, Vec<FaceId>) {
         let mut last = self.levels.pop().expect("a refiner has levels");
-        let origin = std::mem::take(&mut last.face_origin);
+        let origin = std::mem::take(&mut last.face_origin).into_vec();
         let face_origin: Vec<FaceId> = match self.prepared.face_origin.take() {
             // u32 → FaceId in place (same layout).
             None => origin.into_iter().map(FaceId).collect(),
@@ -295,21 +300,26 @@ impl Refiner {
             && level
                 .vertex_sharpness
                 .iter()
-                .zip(&level.vertex_forced)
+                .zip(level.vertex_forced.iter())
                 .any(|(&s, &forced)| s > 0.0 && !forced);
         let vertex_sharpness: Option<Vec<f64>> = user_sharp.then(|| {
             level
                 .vertex_sharpness
                 .iter()
-                .zip(&level.vertex_forced)
+                .zip(level.vertex_forced.iter())
                 .map(|(&s, &forced)| if forced { 0.0 } else { s as f64 })
                 .collect()
         });
-        let corners = level.corner_verts.into_iter().map(VertexId).collect();
+        let corners = level
+            .corner_verts
+            .into_vec()
+            .into_iter()
+            .map(VertexId)
+            .collect();
         let mut mesh = PolyMesh::from_parts_unchecked(
             positions,
-            level.face_loops,
-            level.loop_offsets,
+            level.face_loops.into_vec(),
+            level.loop_offsets.into_vec(),
             corners,
         );
         mesh.attributes.edge_sharpness = edge_sharpness;

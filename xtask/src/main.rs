@@ -4,6 +4,7 @@ mod bench;
 mod ctest;
 mod deps;
 mod header;
+mod install;
 mod test;
 mod util;
 
@@ -19,6 +20,8 @@ tasks:
   header          regenerate include/katachi.h with the pinned cbindgen
   header --check  fail if include/katachi.h is stale
   ctest           build and run the C/C++ link tests under valgrind
+  install         install the C library: --prefix P [--libdir DIR] [--includedir DIR] (DESTDIR honoured)
+  install-test    install into a temporary prefix; build C/C++ programs with pkg-config, run under valgrind
 ";
 
 fn main() -> ExitCode {
@@ -30,6 +33,8 @@ fn main() -> ExitCode {
         Some("bench") => bench::run(&rest),
         Some("header") => header::run(&rest),
         Some("ctest") => ctest::run(&rest),
+        Some("install") => install::run(&rest),
+        Some("install-test") => install::test(&rest),
         Some("help") | Some("--help") | Some("-h") | None => {
             print!("{HELP}");
             Ok(())

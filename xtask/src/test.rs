@@ -49,6 +49,10 @@ pub fn run(args: &[&str]) -> Result<(), String> {
     ];
     if !skip_c {
         steps.push(("C/C++ link tests", Box::new(|| crate::ctest::run(&[]))));
+        steps.push((
+            "installed C library (pkg-config, C and C++, valgrind)",
+            Box::new(|| crate::install::test(&[])),
+        ));
     }
     let total = steps.len();
     for (i, (name, step)) in steps.iter().enumerate() {

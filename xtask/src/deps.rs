@@ -32,6 +32,48 @@ pub const PACKAGES: &[(&str, &str)] = &[
         "clang",
         "clang's resource headers (stddef.h, stdint.h) for bindgen in tests/reference",
     ),
+    (
+        "blender",
+        "Blender 3.4, where the add-on's tests run headless (cargo xtask blender-test)",
+    ),
+    (
+        "python3-venv",
+        "the venv into which cargo xtask blender-test installs bpy 5.0 from PyPI",
+    ),
+    (
+        "xvfb",
+        "an X server for Blender's UI when cargo xtask blender-test --screenshot renders it",
+    ),
+    (
+        "xauth",
+        "xvfb-run needs it to start Xvfb for the Blender screenshot",
+    ),
+    (
+        "meshlab",
+        "MeshLab 2020.09: libmeshlab-common.so the plugin links, meshlabserver and Debian's I/O plugins for its tests (xvfb, xauth: meshlabserver runs under xvfb-run)",
+    ),
+    (
+        "dpkg-dev",
+        "dpkg-source unpacks `apt-get source meshlab` (the plugin's headers); dpkg-architecture",
+    ),
+    ("cmake", "builds the MeshLab plugin (meshlab_plugin/CMakeLists.txt)"),
+    ("make", "cmake's build tool for the MeshLab plugin"),
+    (
+        "qtbase5-dev",
+        "Qt 5 headers and CMake files (Core, Gui, Widgets, Xml) for the MeshLab plugin",
+    ),
+    (
+        "libqt5opengl5-dev",
+        "Qt5::OpenGL, used by MeshLab's headers, for the MeshLab plugin",
+    ),
+    (
+        "libeigen3-dev",
+        "Eigen, included by vcglib's headers, for the MeshLab plugin",
+    ),
+    (
+        "libglew-dev",
+        "GL/glew.h and the GL headers, included by MeshLab's headers, for the MeshLab plugin",
+    ),
 ];
 
 fn installed(pkg: &str) -> bool {

@@ -5,6 +5,7 @@ mod ctest;
 mod deps;
 mod header;
 mod install;
+mod meshlab;
 mod test;
 mod util;
 
@@ -22,6 +23,7 @@ tasks:
   ctest           build and run the C/C++ link tests under valgrind
   install         install the C library: --prefix P [--libdir DIR] [--includedir DIR] (DESTDIR honoured)
   install-test    install into a temporary prefix; build C/C++ programs with pkg-config, run under valgrind
+  meshlab-plugin  build the MeshLab 2020.09 filter plugin (apt-get source meshlab); --test: test it with meshlabserver
 ";
 
 fn main() -> ExitCode {
@@ -35,6 +37,7 @@ fn main() -> ExitCode {
         Some("ctest") => ctest::run(&rest),
         Some("install") => install::run(&rest),
         Some("install-test") => install::test(&rest),
+        Some("meshlab-plugin") => meshlab::run(&rest),
         Some("help") | Some("--help") | Some("-h") | None => {
             print!("{HELP}");
             Ok(())

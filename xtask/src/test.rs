@@ -53,6 +53,10 @@ pub fn run(args: &[&str]) -> Result<(), String> {
             "installed C library (pkg-config, C and C++, valgrind)",
             Box::new(|| crate::install::test(&[])),
         ));
+        steps.push((
+            "MeshLab plugin (meshlabserver under xvfb-run)",
+            Box::new(crate::meshlab::test),
+        ));
     }
     let total = steps.len();
     for (i, (name, step)) in steps.iter().enumerate() {

@@ -1,0 +1,43 @@
+#!/bin/sh
+# Takes docs/images/meshlab_subdivide.png (the filter's parameter dialog) and
+# docs/images/meshlab_subdivide_result.png (after Apply) in MeshLab 2020.09 under Xvfb.
+#
+# Not part of `cargo xtask test`: it drives the GUI by screen coordinates (xdotool), which
+# depend on MeshLab's layout at 1280x900. Needs the private prefix that
+# `cargo xtask meshlab-plugin --test` makes, and the Debian packages xdotool and imagemagick
+# (not in `cargo xtask deps`, as no xtask command runs this).
+#
+#   tests/meshlab/screenshot.sh [TARGET_DIR]     (default: $CARGO_TARGET_DIR or ./target)
+set -eu
+root=$(cd "$(dirname "$0")/../.." && pwd)
+target=${1:-${CARGO_TARGET_DIR:-$root/target}}
+prefix=$target/meshlab/prefix
+model=$root/../shared/data/models/fandisk_quads.off
+for tool in xvfb-run xdotool import; do
+    command -v $tool >/dev/null || { echo "screenshot.sh: $tool is missing (apt-get install xvfb xdotool imagemagick)" >&2; exit 1; }
+done
+[ -x "$prefix/bin/meshlabserver" ] || { echo "screenshot.sh: run cargo xtask meshlab-plugin --test first ($prefix)" >&2; exit 1; }
+# The GUI, copied beside meshlabserver so it loads the prefix's plugins.
+cp "$(command -v meshlab)" "$prefix/bin/meshlab"
+mkdir -p "$root/docs/images"
+
+xvfb-run -a -s "-screen 0 1280x900x24" sh -c '
+    "$1/bin/meshlab" "$2" >/dev/null 2>&1 &
+    gui=$!
+    sleep 10
+    win=$(xdotool search --name MeshLab | tail -1)
+    xdotool windowsize "$win" 1280 860 windowmove "$win" 0 0
+    sleep 2
+    xdotool mousemove 120 10 click 1      # Filters
+    sleep 2
+    xdotool mousemove 275 161 click 1     # Remeshing, Simplification and Reconstruction
+    sleep 2
+    xdotool mousemove 935 112 click 1     # katachi: Solid-aware subdivision
+    sleep 3
+    import -window root -crop 1280x860+0+0 "$3/meshlab_subdivide.png"
+    xdotool mousemove 336 460 click 1     # Apply
+    sleep 5
+    import -window root -crop 1280x860+0+0 "$3/meshlab_subdivide_result.png"
+    kill $gui
+' sh "$prefix" "$model" "$root/docs/images"
+echo "wrote $root/docs/images/meshlab_subdivide.png and meshlab_subdivide_result.png"

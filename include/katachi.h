@@ -454,6 +454,12 @@ typedef struct KatachiSubdivisionInfo {
     uint32_t stencil_entry_count;
 } KatachiSubdivisionInfo;
 
+/**
+ * Called by `katachi_subdivide_with_progress` on the calling thread after each level:
+ * `done` levels of `total` are refined. `user` is the pointer given with the callback.
+ */
+typedef void (*KatachiProgressFn)(uint32_t done, uint32_t total, void *user);
+
 #ifdef __cplusplus
 extern "C" {
 #endif // __cplusplus
@@ -837,6 +843,19 @@ struct KatachiSubdivisionInfo katachi_subdivision_info_default(void);
 KatachiStatus katachi_subdivide(const struct KatachiMesh *mesh,
                                 const struct KatachiSubdivideOptions *options,
                                 struct KatachiSubdivision **out);
+
+/**
+ * `katachi_subdivide`, calling `progress(done, total, user)` on the calling thread after
+ * each level (for a progress bar; the work cannot be cancelled). `progress` may be NULL.
+ *
+ * # Safety
+ * As `katachi_subdivide`; `progress` NULL or a function safe to call with `user`.
+ */
+KatachiStatus katachi_subdivide_with_progress(const struct KatachiMesh *mesh,
+                                              const struct KatachiSubdivideOptions *options,
+                                              KatachiProgressFn progress,
+                                              void *user,
+                                              struct KatachiSubdivision **out);
 
 /**
  * Frees a result of `katachi_subdivide`. NULL is allowed and does nothing.

@@ -426,3 +426,42 @@ fn same_bits_whatever_the_thread_count() {
         assert_eq!(one.face_origin, other.face_origin);
     }
 }
+
+/// UVs on faces kept whole (method [b]): with one UV per vertex and no seams, the UV
+/// topology is the mesh's, so smooth UVs are the refined positions' (x, y) exactly, and the
+/// other modes give finite values for every output corner.
+#[test]
+fn face_varying_data_follows_faces_kept_whole() {
+    use katachi::subdivide::{FaceVarying, Refiner};
+    let plate = shapes::plate_with_hole(4.0, 2.0, 1.0);
+    let uv: Vec<[f64; 2]> = plate.positions().iter().map(|p| [p.x, p.y]).collect();
+    let indices: Vec<u32> = plate.corners().iter().map(|v| v.0).collect();
+    for levels in 1..=2 {
+        let refiner = Refiner::new(&plate, &with_holes(HoleMethod::Sharp, levels)).unwrap();
+        let positions = refiner.refine_vertex_data(plate.positions()).unwrap();
+        let out = refiner.mesh(positions.clone());
+        for mode in [
+            FaceVarying::Smooth,
+            FaceVarying::LinearCornersOnly,
+            FaceVarying::LinearBoundaries,
+            FaceVarying::LinearAll,
+        ] {
+            let refined = refiner
+                .refine_face_varying(&plate, &uv, &indices, mode)
+                .unwrap_or_else(|e| panic!("{mode:?}, {levels} levels: {e}"));
+            assert_eq!(refined.len(), out.corner_count() as usize, "{mode:?}");
+            assert!(refined.iter().flatten().all(|x| x.is_finite()), "{mode:?}");
+            if mode == FaceVarying::Smooth {
+                for (k, v) in out.corners().iter().enumerate() {
+                    let p = positions[v.0 as usize];
+                    let d = (refined[k][0] - p.x).abs() + (refined[k][1] - p.y).abs();
+                    assert!(
+                        d < 1e-12,
+                        "{levels} levels, corner {k}: {:?} vs {p}",
+                        refined[k]
+                    );
+                }
+            }
+        }
+    }
+}

@@ -55,12 +55,15 @@ impl FfiError {
     }
 }
 
-/// Maps the kernel's error families onto statuses. [`Error::InvalidArgument`] (an argument
-/// that is not mesh data) gets its own status; everything else follows [`Error::kind`].
+/// Maps the kernel's error families onto statuses. [`Error::InvalidArgument`] and
+/// [`Error::InvalidOption`] (arguments that are not mesh data) get their own status;
+/// everything else follows [`Error::kind`].
 impl From<Error> for FfiError {
     fn from(e: Error) -> Self {
         let status = match (&e, e.kind()) {
-            (Error::InvalidArgument(_), _) => KatachiStatus::InvalidArgument,
+            (Error::InvalidArgument(_) | Error::InvalidOption { .. }, _) => {
+                KatachiStatus::InvalidArgument
+            }
             (_, ErrorKind::BadInput) => KatachiStatus::BadInput,
             (_, ErrorKind::BadTopology) => KatachiStatus::BadTopology,
             (_, ErrorKind::Io) => KatachiStatus::IoError,

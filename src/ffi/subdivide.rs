@@ -2,6 +2,8 @@
 //! its options, the result handle, and interpolation of the caller's data through it.
 //! Conversion and error mapping only; the work is [`crate::subdivide`]'s.
 
+use std::ffi::c_void;
+
 use super::boundary::{
     deref, guard, guard_value, out_buffer, slice, write_sized, FfiError, FfiResult,
 };
@@ -233,22 +235,66 @@ pub unsafe extern "C" fn katachi_subdivide(
     out: *mut *mut KatachiSubdivision,
 ) -> KatachiStatus {
     guard("katachi_subdivide", || {
-        // SAFETY: the caller's promises above.
-        let out = unsafe { super::boundary::deref_mut(out, "out") }?;
-        *out = std::ptr::null_mut();
-        let mesh = unsafe { mesh_ref(mesh) }?;
-        let options = options_from(unsafe { deref(options, "options") }?)?;
-        let refiner = Refiner::new(mesh, &options)?;
-        let positions = refiner.refine_vertex_data(mesh.positions())?;
-        let result = KatachiSubdivision {
-            input: mesh.clone(),
-            mesh: refiner.mesh(positions),
-            refiner,
-            stencils: std::sync::OnceLock::new(),
-        };
-        *out = Box::into_raw(Box::new(result));
-        Ok(())
+        // SAFETY: the caller's promises, passed on unchanged.
+        unsafe { subdivide(mesh, options, &mut |_, _| {}, out) }
     })
+}
+
+/// Called by `katachi_subdivide_with_progress` on the calling thread after each level:
+/// `done` levels of `total` are refined. `user` is the pointer given with the callback.
+pub type KatachiProgressFn = Option<unsafe extern "C" fn(done: u32, total: u32, user: *mut c_void)>;
+
+/// `katachi_subdivide`, calling `progress(done, total, user)` on the calling thread after
+/// each level (for a progress bar; the work cannot be cancelled). `progress` may be NULL.
+///
+/// # Safety
+/// As `katachi_subdivide`; `progress` NULL or a function safe to call with `user`.
+#[no_mangle]
+pub unsafe extern "C" fn katachi_subdivide_with_progress(
+    mesh: *const KatachiMesh,
+    options: *const KatachiSubdivideOptions,
+    progress: KatachiProgressFn,
+    user: *mut c_void,
+    out: *mut *mut KatachiSubdivision,
+) -> KatachiStatus {
+    guard("katachi_subdivide_with_progress", || {
+        let mut report = |done: u32, total: u32| {
+            if let Some(f) = progress {
+                // SAFETY: the caller's promise about `progress` and `user`.
+                unsafe { f(done, total, user) }
+            }
+        };
+        // SAFETY: the caller's promises, passed on unchanged.
+        unsafe { subdivide(mesh, options, &mut report, out) }
+    })
+}
+
+/// The body of both subdivide calls.
+///
+/// # Safety
+/// As `katachi_subdivide`.
+unsafe fn subdivide(
+    mesh: *const KatachiMesh,
+    options: *const KatachiSubdivideOptions,
+    progress: &mut dyn FnMut(u32, u32),
+    out: *mut *mut KatachiSubdivision,
+) -> FfiResult {
+    // SAFETY: the caller's promises above.
+    let out = unsafe { super::boundary::deref_mut(out, "out") }?;
+    *out = std::ptr::null_mut();
+    let mesh = unsafe { mesh_ref(mesh) }?;
+    let options = options_from(unsafe { deref(options, "options") }?)?;
+    // Topology and positions refined side by side, as `catmull_clark` does.
+    let (refiner, positions) = Refiner::build(mesh, &options, Some(mesh.positions()), progress)?;
+    let positions = positions.expect("positions were given");
+    let result = KatachiSubdivision {
+        input: mesh.clone(),
+        mesh: refiner.mesh(positions),
+        refiner,
+        stencils: std::sync::OnceLock::new(),
+    };
+    *out = Box::into_raw(Box::new(result));
+    Ok(())
 }
 
 /// Frees a result of `katachi_subdivide`. NULL is allowed and does nothing.

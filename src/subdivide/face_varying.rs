@@ -183,6 +183,8 @@ fn smooth<T: Primvar>(
     options.recover_faces_with_holes = false;
     options.feature_angle = None;
     options.holes = super::options::HoleMethod::Sharp;
+    // Level 0's faces with holes passed their checks; the UV mesh's positions are zeros.
+    options.holes_checked = true;
     options.boundary = match mode {
         FaceVarying::LinearCornersOnly => BoundaryInterpolation::EdgeAndCorner,
         _ => BoundaryInterpolation::EdgeOnly,

@@ -55,6 +55,9 @@ pub struct SubdivideOptions {
     /// Tag edges whose dihedral angle exceeds this many degrees as infinitely sharp
     /// ([`super::tag_feature_edges`]), for CAD meshes. Default value: `None` (off).
     pub feature_angle: Option<f64>,
+    /// The faces with holes were checked already (the UV topology of a checked mesh, whose
+    /// positions are placeholders): the geometric checks are skipped.
+    pub(crate) holes_checked: bool,
 }
 
 impl Default for SubdivideOptions {
@@ -67,6 +70,7 @@ impl Default for SubdivideOptions {
             recover_faces_with_holes: false,
             merge: MergeOptions::default(),
             feature_angle: None,
+            holes_checked: false,
         }
     }
 }

@@ -78,7 +78,9 @@ pub(crate) fn prepare(
     }
     let mesh = p.mesh(input);
     if mesh.faces().any(|f| mesh.face_loop_count(f) > 1) {
-        validate_faces_with_holes(mesh)?;
+        if !options.holes_checked {
+            validate_faces_with_holes(mesh)?;
+        }
         if options.holes == HoleMethod::Smooth {
             bridge(&mut p, input, report)?;
         }

@@ -184,9 +184,11 @@ static void test_bad_input(void)
               "options");
     CHECK_ERR("NULL out", katachi_subdivide(cube, &o, NULL), KATACHI_STATUS_NULL_POINTER, "out");
     o.levels = 0;
-    CHECK_ERR("0 levels", katachi_subdivide(cube, &o, &s), KATACHI_STATUS_BAD_INPUT, "levels");
+    CHECK_ERR("0 levels", katachi_subdivide(cube, &o, &s), KATACHI_STATUS_INVALID_ARGUMENT,
+              "levels");
     o.levels = 9;
-    CHECK_ERR("9 levels", katachi_subdivide(cube, &o, &s), KATACHI_STATUS_BAD_INPUT, "levels");
+    CHECK_ERR("9 levels", katachi_subdivide(cube, &o, &s), KATACHI_STATUS_INVALID_ARGUMENT,
+              "levels");
     o = katachi_subdivide_options_default();
     o.holes = 7;
     CHECK_ERR("bad hole method", katachi_subdivide(cube, &o, &s), KATACHI_STATUS_INVALID_ARGUMENT,
@@ -255,14 +257,14 @@ static void test_recovery_and_features(void)
     CHECK_OK("merged counts", katachi_mesh_counts(merged, &c));
     CHECK("faces with holes recovered", c.face_count == 10 && c.loop_count == 12);
     CHECK_ERR("merge: bad tolerance", katachi_merge_coplanar_regions(split, 2.0, &tagged),
-              KATACHI_STATUS_BAD_INPUT, "angle");
+              KATACHI_STATUS_INVALID_ARGUMENT, "angle");
     CHECK_OK("tag feature edges", katachi_tag_feature_edges(cube, 30.0, &tagged));
     CHECK_OK("tagged counts", katachi_mesh_counts(tagged, &c));
     CHECK("all 12 cube edges are sharp at 30 degrees", c.sharp_edge_count == 12);
     katachi_mesh_free(tagged);
     tagged = NULL;
-    CHECK_ERR("tag: angle 0", katachi_tag_feature_edges(cube, 0.0, &tagged), KATACHI_STATUS_BAD_INPUT,
-              "angle");
+    CHECK_ERR("tag: angle 0", katachi_tag_feature_edges(cube, 0.0, &tagged),
+              KATACHI_STATUS_INVALID_ARGUMENT, "angle");
     CHECK("tag: out NULL", tagged == NULL);
 
     o.recover_faces_with_holes = 1;
@@ -287,6 +289,65 @@ static void test_recovery_and_features(void)
     katachi_mesh_free(cube);
 }
 
+/* What the progress callback saw. */
+typedef struct {
+    uint32_t calls, last_done, total, in_order;
+} Progress;
+
+static void on_progress(uint32_t done, uint32_t total, void *user)
+{
+    Progress *p = (Progress *)user;
+    p->calls++;
+    if (done != p->last_done + 1) {
+        p->in_order = 0;
+    }
+    p->last_done = done;
+    p->total = total;
+}
+
+static void test_progress(void)
+{
+    KatachiMesh *cube = make_cube();
+    KatachiSubdivideOptions o = katachi_subdivide_options_default();
+    KatachiSubdivision *a = NULL, *b = NULL, *c = NULL;
+    KatachiMesh *ma = NULL, *mb = NULL;
+    Progress p = {0, 0, 0, 1};
+    double pa[386 * 3], pb[386 * 3];
+    size_t i;
+    int same = 1;
+
+    o.levels = 3;
+    CHECK_OK("subdivide with progress",
+             katachi_subdivide_with_progress(cube, &o, on_progress, &p, &a));
+    CHECK("progress called once per level, in order, with the total",
+          p.calls == 3 && p.last_done == 3 && p.total == 3 && p.in_order);
+    CHECK_OK("NULL progress is allowed", katachi_subdivide_with_progress(cube, &o, NULL, NULL, &c));
+    CHECK_OK("same call without progress", katachi_subdivide(cube, &o, &b));
+    CHECK_OK("mesh a", katachi_subdivision_mesh(a, &ma));
+    CHECK_OK("mesh b", katachi_subdivision_mesh(b, &mb));
+    CHECK_OK("positions a", katachi_mesh_copy_positions(ma, pa, 386 * 3));
+    CHECK_OK("positions b", katachi_mesh_copy_positions(mb, pb, 386 * 3));
+    for (i = 0; i < 386 * 3; ++i) {
+        if (pa[i] != pb[i]) {
+            same = 0;
+        }
+    }
+    CHECK("the same result bit for bit", same);
+    katachi_subdivision_free(c);
+    c = NULL;
+    p.calls = 0;
+    o.levels = 0;
+    CHECK("bad options fail before any progress",
+          katachi_subdivide_with_progress(cube, &o, on_progress, &p, &c) ==
+                  KATACHI_STATUS_INVALID_ARGUMENT &&
+              c == NULL && p.calls == 0);
+    katachi_mesh_free(ma);
+    katachi_mesh_free(mb);
+    katachi_subdivision_free(a);
+    katachi_subdivision_free(b);
+    katachi_mesh_free(cube);
+}
+
 int main(void)
 {
     printf("katachi %s, subdivision from C99\n", katachi_version_string());
@@ -294,5 +355,6 @@ int main(void)
     test_plate_with_holes();
     test_bad_input();
     test_recovery_and_features();
+    test_progress();
     return check_finish();
 }

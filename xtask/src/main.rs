@@ -1,6 +1,8 @@
 //! `cargo xtask <task>`: the project's automation. See `cargo xtask help`.
 
+mod addon;
 mod bench;
+mod blender;
 mod ctest;
 mod deps;
 mod header;
@@ -23,6 +25,9 @@ tasks:
   ctest           build and run the C/C++ link tests under valgrind
   install         install the C library: --prefix P [--libdir DIR] [--includedir DIR] (DESTDIR honoured)
   install-test    install into a temporary prefix; build C/C++ programs with pkg-config, run under valgrind
+  addon           build the Blender add-on zip (target/addon/katachi-<version>.zip)
+  blender-test    test the add-on headless in Blender 3.4 and bpy 5.0 [--only 3.4|5.0] [-k NAME]
+  blender-screenshot  render the add-on's redo panel under Xvfb into docs/images/
   meshlab-plugin  build the MeshLab 2020.09 filter plugin (apt-get source meshlab); --test: test it with meshlabserver
 ";
 
@@ -38,6 +43,9 @@ fn main() -> ExitCode {
         Some("install") => install::run(&rest),
         Some("install-test") => install::test(&rest),
         Some("meshlab-plugin") => meshlab::run(&rest),
+        Some("addon") => addon::run(&rest),
+        Some("blender-test") => blender::run(&rest),
+        Some("blender-screenshot") => blender::screenshot(&rest),
         Some("help") | Some("--help") | Some("-h") | None => {
             print!("{HELP}");
             Ok(())

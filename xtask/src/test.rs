@@ -58,6 +58,10 @@ pub fn run(args: &[&str]) -> Result<(), String> {
             Box::new(crate::meshlab::test),
         ));
     }
+    steps.push((
+        "Blender add-on (Blender 3.4 and bpy 5.0, headless)",
+        Box::new(|| crate::blender::run(&[])),
+    ));
     let total = steps.len();
     for (i, (name, step)) in steps.iter().enumerate() {
         eprintln!("xtask test: [{}/{total}] {name}", i + 1);

@@ -5,7 +5,7 @@
 # Not part of `cargo xtask test`: it drives the GUI by screen coordinates (xdotool), which
 # depend on MeshLab's layout at 1280x900. Needs the private prefix that
 # `cargo xtask meshlab-plugin --test` makes, and the Debian packages xdotool and imagemagick
-# (not in `cargo xtask deps`, as no xtask command runs this).
+# (`cargo xtask deps` installs them).
 #
 #   tests/meshlab/screenshot.sh [TARGET_DIR]     (default: $CARGO_TARGET_DIR or ./target)
 set -eu

@@ -74,6 +74,14 @@ pub const PACKAGES: &[(&str, &str)] = &[
         "libglew-dev",
         "GL/glew.h and the GL headers, included by MeshLab's headers, for the MeshLab plugin",
     ),
+    (
+        "xdotool",
+        "tests/meshlab/screenshot.sh drives MeshLab's GUI under Xvfb for the README's picture",
+    ),
+    (
+        "imagemagick",
+        "tests/meshlab/screenshot.sh captures the screen (`import`)",
+    ),
 ];
 
 fn installed(pkg: &str) -> bool {

@@ -1,12 +1,16 @@
 //! The Blender add-on's ctypes bindings (`blender_addon/katachi/ffi.py`) against the C header
 //! (`include/katachi.h`): every function the add-on declares exists in the header with the
 //! same return and argument types, every struct it mirrors has the header's fields in the
-//! header's order with the same types, and its constants have the header's values.
+//! header's order with the same types, every callback type (`CFUNCTYPE`) it declares is a
+//! function-pointer typedef of the header with the same signature, a function-pointer
+//! typedef is passed only as the callback type declared for it, and its constants have the
+//! header's values.
 //!
 //! ctypes cannot say `const`, so `POINTER(T)` matches both `T *` and `const T *`; otherwise
 //! types must be the same (`c_uint32` is `uint32_t`, `c_size_t` is `size_t`, `c_char_p` is a
-//! `char *`, `None` is `void`, `KatachiStatus` is `KatachiStatus`). The parsers are small and
-//! made for these two files; the tests below also prove that a changed declaration is caught.
+//! `char *`, `c_void_p` is a `void *`, `None` is `void`, `KatachiStatus` is `KatachiStatus`).
+//! The parsers are small and made for these two files; the tests below also prove that a
+//! changed declaration is caught.
 
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -121,6 +125,43 @@ fn header_functions(header: &str) -> BTreeMap<String, Function> {
     out
 }
 
+/// `typedef R (*Name)(args);` → Name: its signature (function-pointer typedefs).
+fn header_callbacks(header: &str) -> BTreeMap<String, Function> {
+    let code = strip_c_comments(header);
+    let mut out = BTreeMap::new();
+    for stmt in code.split(';') {
+        let stmt = stmt.rsplit(['{', '}']).next().unwrap_or("").trim();
+        let Some(rest) = stmt.strip_prefix("typedef ") else {
+            continue;
+        };
+        let Some((ret, rest)) = rest.split_once("(*") else {
+            continue;
+        };
+        let (name, rest) = rest
+            .split_once(')')
+            .unwrap_or_else(|| panic!("a function-pointer typedef without `)`: {stmt}"));
+        let inner = rest
+            .trim()
+            .strip_prefix('(')
+            .and_then(|r| r.strip_suffix(')'))
+            .unwrap_or_else(|| panic!("a function-pointer typedef without arguments: {stmt}"));
+        let args = if inner.trim() == "void" {
+            Vec::new()
+        } else {
+            inner.split(',').map(|a| c_type(a, true).0).collect()
+        };
+        let f = Function {
+            ret: c_type(ret, false).0,
+            args,
+        };
+        assert!(
+            out.insert(name.trim().to_owned(), f).is_none(),
+            "{name} typedef'd twice"
+        );
+    }
+    out
+}
+
 /// `typedef struct Name { fields } Name;` → Name: [(field, type)].
 fn header_structs(header: &str) -> BTreeMap<String, Vec<(String, Ty)>> {
     let code = strip_c_comments(header);
@@ -208,6 +249,7 @@ fn py_type(expr: &str) -> Ty {
         "c_bool" => ("bool", 0),
         "c_char" => ("char", 0),
         "c_char_p" => ("char", 1),
+        "c_void_p" => ("void", 1),
         other if other.starts_with("Katachi") => (other, 0),
         other => panic!("ffi.py uses a ctypes type the test does not know: {other}"),
     };
@@ -267,6 +309,39 @@ fn python_functions(py: &str) -> BTreeMap<String, Function> {
         let f = Function {
             ret: py_type(parts[0]),
             args: split_top(args).into_iter().map(py_type).collect(),
+        };
+        assert!(
+            out.insert(name.to_owned(), f).is_none(),
+            "{name} declared twice"
+        );
+    }
+    out
+}
+
+/// `Name = CFUNCTYPE(restype, argtypes…)` → Name: its signature.
+fn python_callbacks(py: &str) -> BTreeMap<String, Function> {
+    let mut out = BTreeMap::new();
+    for line in block(py, "callbacks").lines() {
+        let l = line.trim();
+        if l.is_empty() || l.starts_with('#') {
+            continue;
+        }
+        let (name, expr) = l
+            .split_once('=')
+            .unwrap_or_else(|| panic!("not `Name = CFUNCTYPE(…)`: {l}"));
+        let name = name.trim();
+        let sig = expr
+            .trim()
+            .strip_prefix("CFUNCTYPE(")
+            .and_then(|s| s.strip_suffix(')'))
+            .unwrap_or_else(|| panic!("{name}: not CFUNCTYPE(restype, argtypes…): {expr}"));
+        let mut parts = split_top(sig).into_iter().map(py_type);
+        let ret = parts
+            .next()
+            .unwrap_or_else(|| panic!("{name}: CFUNCTYPE without a return type"));
+        let f = Function {
+            ret,
+            args: parts.collect(),
         };
         assert!(
             out.insert(name.to_owned(), f).is_none(),
@@ -348,6 +423,39 @@ fn differences(header: &str, py: &str) -> Vec<String> {
                         ));
                     }
                 }
+            }
+        }
+    }
+    let hcb = header_callbacks(header);
+    let pcb = python_callbacks(py);
+    for (name, f) in &pcb {
+        match hcb.get(name) {
+            None => bad.push(format!(
+                "callback {name}: in ffi.py, not a function-pointer typedef of katachi.h"
+            )),
+            Some(h) if h != f => {
+                let show = |f: &Function| {
+                    let args: Vec<String> = f.args.iter().map(|a| a.to_string()).collect();
+                    format!("{} (*)({})", f.ret, args.join(", "))
+                };
+                bad.push(format!(
+                    "callback {name}: {} in katachi.h, {} in ffi.py",
+                    show(h),
+                    show(f)
+                ));
+            }
+            Some(_) => {}
+        }
+    }
+    // A function-pointer argument matches by name only above: its CFUNCTYPE must be one
+    // checked here, so that its signature is checked too.
+    for (name, f) in python_functions(py) {
+        for (i, a) in f.args.iter().chain([&f.ret]).enumerate() {
+            if hcb.contains_key(&a.base) && !pcb.contains_key(&a.base) {
+                bad.push(format!(
+                    "{name}: {} (type {i}) is a callback not declared in ffi.py's callbacks block",
+                    a.base
+                ));
             }
         }
     }
@@ -442,6 +550,32 @@ fn the_parsers_see_everything() {
         info.last().map(|f| f.1.to_string()).as_deref(),
         Some("double[3]")
     );
+    // Function-pointer typedefs, counted independently of the parser.
+    let typedefs = header
+        .lines()
+        .filter(|l| l.starts_with("typedef ") && l.contains("(*"))
+        .count();
+    let hcb = header_callbacks(&header);
+    assert!(typedefs >= 1, "no function-pointer typedef in katachi.h");
+    assert_eq!(hcb.len(), typedefs, "the parser missed typedefs: {hcb:?}");
+    let progress = &hcb["KatachiProgressFn"];
+    assert_eq!(progress.ret.to_string(), "void");
+    assert_eq!(
+        progress
+            .args
+            .iter()
+            .map(|a| a.to_string())
+            .collect::<Vec<_>>(),
+        ["uint32_t", "uint32_t", "void*"]
+    );
+    let pcb = python_callbacks(&py);
+    assert_eq!(pcb.keys().collect::<Vec<_>>(), ["KatachiProgressFn"]);
+    let with_progress = &hf["katachi_subdivide_with_progress"];
+    assert_eq!(with_progress.args[2].to_string(), "KatachiProgressFn");
+    assert_eq!(
+        pf["katachi_subdivide_with_progress"].args[2].to_string(),
+        "KatachiProgressFn"
+    );
     let constants = python_constants(&py);
     assert_eq!(constants.get("KATACHI_ABI_VERSION"), Some(&1));
     assert_eq!(constants.len(), 19, "{constants:?}");
@@ -525,6 +659,43 @@ fn a_changed_declaration_is_caught() {
     assert!(
         bad.iter()
             .any(|b| b.contains("KATACHI_STATUS_BAD_TOPOLOGY")),
+        "{bad:?}"
+    );
+    // A callback's argument, argument count and return type; a function-pointer argument
+    // declared as something else, or with a CFUNCTYPE the test does not check.
+    let callback = "KatachiProgressFn = CFUNCTYPE(None, c_uint32, c_uint32, c_void_p)";
+    for changed in [
+        "KatachiProgressFn = CFUNCTYPE(None, c_uint32, c_size_t, c_void_p)",
+        "KatachiProgressFn = CFUNCTYPE(None, c_uint32, c_uint32)",
+        "KatachiProgressFn = CFUNCTYPE(c_uint32, c_uint32, c_uint32, c_void_p)",
+    ] {
+        let bad = mutate(callback, changed);
+        assert!(
+            bad.iter().any(|b| b.contains("callback KatachiProgressFn")),
+            "{changed}: {bad:?}"
+        );
+    }
+    let bad = mutate(
+        "POINTER(KatachiSubdivideOptions), KatachiProgressFn, c_void_p,",
+        "POINTER(KatachiSubdivideOptions), c_void_p, c_void_p,",
+    );
+    assert!(
+        bad.iter()
+            .any(|b| b.contains("katachi_subdivide_with_progress: argument 2")),
+        "{bad:?}"
+    );
+    let bad = mutate(callback, "# moved out of the block");
+    assert!(
+        bad.iter()
+            .any(|b| b.contains("KatachiProgressFn (type 2) is a callback not declared")),
+        "{bad:?}"
+    );
+    let bad = mutate(
+        callback,
+        "KatachiProgressFn = CFUNCTYPE(None, c_uint32, c_uint32, c_void_p)\nKatachiDoneFn = CFUNCTYPE(None)",
+    );
+    assert!(
+        bad.iter().any(|b| b.contains("callback KatachiDoneFn")),
         "{bad:?}"
     );
     let bad = mutate("KATACHI_ABI_VERSION = 1", "KATACHI_ABI_VERSION = 2");

@@ -267,14 +267,18 @@ def _copy_faces(lib, mesh, counts):
 def subdivide(lib, data, options, uv_mode, progress=None):
     """Subdivides ``data`` (an :class:`InputMesh`) with ``options`` (a
     ``KatachiSubdivideOptions``); UV maps follow with ``uv_mode`` (a ``KatachiFaceVarying``).
-    ``progress(fraction)`` is called between stages. Raises :class:`ffi.KatachiError`."""
+    ``progress(fraction)`` is called between stages and after each subdivision level (from
+    0.1 to 0.6 as the levels are refined). Raises :class:`ffi.KatachiError`."""
     step = progress or (lambda f: None)
     out = Result()
+
+    def level_done(done, total):
+        step(0.1 + 0.5 * done / max(total, 1))
+
     with to_katachi(lib, data) as mesh:
         step(0.1)
-        handle = POINTER(ffi.KatachiSubdivision)()
-        lib.call("katachi_subdivide", mesh.handle, byref(options), byref(handle))
-    with ffi.Subdivision(lib, handle) as sub:
+        subdivision = ffi.subdivide(lib, mesh, options, level_done)
+    with subdivision as sub:
         step(0.6)
         info = sub.info()
         origin = _zeros("I", info.face_count)
@@ -284,24 +288,18 @@ def subdivide(lib, data, options, uv_mode, progress=None):
         refined_uvs = []
         for name, values, indices in data.uv_layers:
             uv = _zeros("d", 2 * info.corner_count)
-            args = (_f64(values), len(values), 2, _u32(indices), len(indices))
-            try:
-                lib.call("katachi_subdivision_refine_face_varying", sub.handle, *args,
-                         uv_mode, _f64(uv), len(uv))
-            except ffi.KatachiError as e:
-                # katachi 0.1 cannot smooth UVs over a face it keeps with its holes (method
-                # [b]): it asks the UV layout for a plane. Linear UVs are right there.
-                kept_holes = (
-                    options.holes == ffi.KATACHI_HOLE_METHOD_SHARP or info.fallback_face_count
-                )
-                if not kept_holes or uv_mode == ffi.KATACHI_FACE_VARYING_LINEAR_ALL:
-                    raise
-                lib.call("katachi_subdivision_refine_face_varying", sub.handle, *args,
-                         ffi.KATACHI_FACE_VARYING_LINEAR_ALL, _f64(uv), len(uv))
-                out.warnings.append(
-                    f"UV map {name!r} was interpolated linearly (UV Smooth 'None'): "
-                    f"smooth UVs around faces kept with their holes failed ({e})"
-                )
+            lib.call(
+                "katachi_subdivision_refine_face_varying",
+                sub.handle,
+                _f64(values),
+                len(values),
+                2,
+                _u32(indices),
+                len(indices),
+                uv_mode,
+                _f64(uv),
+                len(uv),
+            )
             refined_uvs.append((name, uv))
         step(0.75)
 

@@ -7,14 +7,26 @@ that needed it (``self.report``) instead of breaking Blender's add-on list.
 Only conversion lives here: every function returns a ``KatachiStatus``, and :func:`check`
 turns a failure into :class:`KatachiError` carrying ``katachi_last_error_message()``.
 
-The structs and the ``FUNCTIONS`` table mirror the header field by field and argument by
-argument; ``tests/blender_bindings.rs`` parses this file and fails when they drift apart
-(a ``POINTER(T)`` stands for ``T *`` or ``const T *``: ctypes has no const).
+The structs, the callback types (``CFUNCTYPE``, the header's function-pointer typedefs) and
+the ``FUNCTIONS`` table mirror the header field by field and argument by argument;
+``tests/blender_bindings.rs`` parses this file and fails when they drift apart (a
+``POINTER(T)`` stands for ``T *`` or ``const T *``: ctypes has no const).
 """
 
 import ctypes
 import os
-from ctypes import POINTER, c_bool, c_char, c_char_p, c_double, c_int64, c_size_t, c_uint32
+from ctypes import (
+    CFUNCTYPE,
+    POINTER,
+    c_bool,
+    c_char,
+    c_char_p,
+    c_double,
+    c_int64,
+    c_size_t,
+    c_uint32,
+    c_void_p,
+)
 
 #: The ABI this add-on was written against (``KATACHI_ABI_VERSION`` in the header).
 KATACHI_ABI_VERSION = 1
@@ -123,6 +135,11 @@ class KatachiSubdivisionInfo(ctypes.Structure):
     ]
 # ---- end of structs ----
 
+# ---- callbacks (checked against include/katachi.h by tests/blender_bindings.rs) ----
+# CFUNCTYPE(return type, argument types...): a C function-pointer typedef.
+KatachiProgressFn = CFUNCTYPE(None, c_uint32, c_uint32, c_void_p)
+# ---- end of callbacks ----
+
 
 _MeshP = POINTER(KatachiMesh)
 _SubP = POINTER(KatachiSubdivision)
@@ -149,6 +166,7 @@ FUNCTIONS = {
     "katachi_subdivide_options_default": (KatachiSubdivideOptions, []),
     "katachi_subdivision_info_default": (KatachiSubdivisionInfo, []),
     "katachi_subdivide": (KatachiStatus, [POINTER(KatachiMesh), POINTER(KatachiSubdivideOptions), POINTER(POINTER(KatachiSubdivision))]),
+    "katachi_subdivide_with_progress": (KatachiStatus, [POINTER(KatachiMesh), POINTER(KatachiSubdivideOptions), KatachiProgressFn, c_void_p, POINTER(POINTER(KatachiSubdivision))]),
     "katachi_subdivision_free": (None, [POINTER(KatachiSubdivision)]),
     "katachi_subdivision_info": (KatachiStatus, [POINTER(KatachiSubdivision), POINTER(KatachiSubdivisionInfo)]),
     "katachi_subdivision_mesh": (KatachiStatus, [POINTER(KatachiSubdivision), POINTER(POINTER(KatachiMesh))]),
@@ -313,3 +331,42 @@ class Subdivision:
         i = self.lib.katachi_subdivision_info_default()
         self.lib.call("katachi_subdivision_info", self.handle, ctypes.byref(i))
         return i
+
+
+def subdivide(lib, mesh, options, progress=None):
+    """Subdivides ``mesh`` (a :class:`Mesh`) with ``options`` (a ``KatachiSubdivideOptions``)
+    through ``katachi_subdivide_with_progress``; returns a :class:`Subdivision`.
+
+    ``progress(done, total)`` is called on this thread after each level (``done`` levels of
+    ``total`` refined). The work cannot be interrupted: an exception raised by ``progress``
+    is kept and raised once katachi has returned (the result is then freed)."""
+    handle = POINTER(KatachiSubdivision)()
+    raised = []
+    if progress is None:
+        callback = KatachiProgressFn()  # NULL
+    else:
+
+        def on_level(done, total, _user):
+            if raised:
+                return
+            try:
+                progress(done, total)
+            except BaseException as e:  # ctypes would print and drop it
+                raised.append(e)
+
+        # ``callback`` is referenced until the call returns: katachi calls it during the call
+        # only, and ctypes frees the trampoline with the last reference.
+        callback = KatachiProgressFn(on_level)
+    lib.call(
+        "katachi_subdivide_with_progress",
+        mesh.handle,
+        ctypes.byref(options),
+        callback,
+        None,
+        ctypes.byref(handle),
+    )
+    result = Subdivision(lib, handle)
+    if raised:
+        result.close()
+        raise raised[0]
+    return result

@@ -7,6 +7,7 @@ as OBJ with OpenSubdiv ``t crease``/``t corner`` tags), Blender's own Subdivisio
 modifier, or the input kept from before the call.
 """
 
+import ctypes
 import math
 import os
 import subprocess
@@ -259,8 +260,10 @@ def near(a, b, tol=TOL):
 def test_installed_from_zip():
     addon = CTX["addon"]
     path = os.path.realpath(addon.__file__)
+    # The target dir may lie inside the checkout (CI): compare with the add-on's sources.
+    source = os.path.realpath(os.path.join(os.path.dirname(__file__), "..", "..", "blender_addon"))
     check(
-        not path.startswith(os.path.realpath(os.path.join(os.path.dirname(__file__), "..", ".."))),
+        not path.startswith(source + os.sep),
         f"the add-on was loaded from the source tree ({path}), not from the installed zip",
     )
     lib_path = os.path.join(os.path.dirname(path), "libkatachi.so")
@@ -476,6 +479,72 @@ def test_uv_modes_reach_katachi():
           "UV Smooth 'All' and 'None' gave the same UVs")
 
 
+def set_planar_uvs(me):
+    """One UV per vertex and no seams: every loop's UV is (x, y) of its vertex."""
+    layer = me.uv_layers[0] if me.uv_layers else me.uv_layers.new(name="UVMap")
+    for loop, d in zip(me.loops, layer.data):
+        co = me.vertices[loop.vertex_index].co
+        d.uv = (co.x, co.y)
+
+
+def uv_position_gap(me):
+    """The largest |UV − (x, y)| over all loops of the first UV map."""
+    layer = me.uv_layers[0]
+    worst = 0.0
+    for loop, d in zip(me.loops, layer.data):
+        co = me.vertices[loop.vertex_index].co
+        worst = max(worst, abs(d.uv[0] - co.x), abs(d.uv[1] - co.y))
+    return worst
+
+
+def test_smooth_uvs_on_faces_kept_with_their_holes():
+    """Method [b] keeps the recovered top and bottom faces of a Boolean plate whole, holes
+    and all; smooth UVs over them used to fail (the add-on fell back to linear UVs). With
+    UV = (x, y) of each vertex and no seams, smooth face-varying interpolation is the vertex
+    interpolation applied to (x, y), so each refined loop's UV is (x, y) of its refined vertex;
+    linear UVs (UV Smooth 'None') are not, which shows the check can fail."""
+    addon = CTX["addon"]
+    ffi, convert = addon.ffi, addon.convert
+    lib = ffi.load()
+    plate = boolean_plate("UvPlate")
+    set_planar_uvs(plate.data)
+    check(uv_position_gap(plate.data) < 1e-7, "the input UVs are not (x, y)")
+    path = export_for_cli(plate, "uv_plate")
+
+    # The case is the one that failed: faces with holes survive level 0 (katachi's own count).
+    options = lib.katachi_subdivide_options_default()
+    options.levels = 2
+    options.holes = ffi.KATACHI_HOLE_METHOD_SHARP
+    options.recover_faces_with_holes = 1
+    with convert.to_katachi(lib, convert.InputMesh(plate.data)) as mesh:
+        with ffi.subdivide(lib, mesh, options) as sub:
+            handle = ctypes.POINTER(ffi.KatachiMesh)()
+            lib.call("katachi_subdivision_mesh", sub.handle, ctypes.byref(handle))
+            with ffi.Mesh(lib, handle) as refined:
+                kept = refined.inspect().faces_with_holes_count
+    check(kept > 0, "no face kept its hole: the case does not test faces kept whole")
+
+    gaps = {}
+    for mode in ("SMOOTH_ALL", "PRESERVE_CORNERS", "PRESERVE_BOUNDARIES", "NONE"):
+        o = plate.copy()
+        o.data = plate.data.copy()
+        o.name = o.data.name = f"UvPlate_{mode}"
+        bpy.context.scene.collection.objects.link(o)
+        select_only(o)
+        subdivide(levels=2, holes="SHARP", recover_holes=True, uv_smooth=mode)
+        compare_with_cli(o, path, "--levels", "2", "--solid", "--holes", "sharp")
+        check(len(o.data.uv_layers) == 1, f"{mode}: {len(o.data.uv_layers)} UV maps")
+        gaps[mode] = uv_position_gap(o.data)
+    # 'All' is katachi's FaceVarying::Smooth; without seams the other smooth modes have no
+    # UV boundary to treat apart, so they agree with it.
+    for mode in ("SMOOTH_ALL", "PRESERVE_CORNERS", "PRESERVE_BOUNDARIES"):
+        check(gaps[mode] <= 1e-5,
+              f"UV Smooth {mode}: refined UVs differ from (x, y) by {gaps[mode]:.3g} "
+              f"(linear UVs differ by {gaps['NONE']:.3g})")
+    check(gaps["NONE"] > 1e-3,
+          f"linear UVs match (x, y) to {gaps['NONE']:.3g}: the check above cannot fail")
+
+
 def fin(name):
     """A non-manifold mesh: three quads on one edge."""
     verts = [(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0), (1, -1, 0), (0, -1, 0), (1, 0, 1), (0, 0, 1)]
@@ -537,6 +606,100 @@ def test_edit_mode():
     check(cube.mode == "EDIT", "the operator left Edit mode")
     bpy.ops.object.mode_set(mode="OBJECT")
     compare_with_cli(cube, path, "--levels", "1")
+
+
+def test_progress_per_level():
+    """katachi_subdivide_with_progress reports each level; the operator's progress bar
+    advances with them."""
+    addon = CTX["addon"]
+    ffi, convert = addon.ffi, addon.convert
+    lib = ffi.load()
+    cube = add_cube("Progress")
+    data = convert.InputMesh(cube.data)
+    options = lib.katachi_subdivide_options_default()
+    options.levels = 3
+    calls = []
+    with convert.to_katachi(lib, data) as mesh:
+        with ffi.subdivide(lib, mesh, options, lambda done, total: calls.append((done, total))) as sub:
+            check(sub.info().face_count == 6 * 4 ** 3, "3 levels did not give 384 faces")
+        check(calls == [(1, 3), (2, 3), (3, 3)], f"progress calls {calls}")
+        with ffi.subdivide(lib, mesh, options) as sub:  # no callback (NULL)
+            check(sub.info().levels == 3, "subdividing without a callback failed")
+
+        # An exception in the callback comes out of ffi.subdivide once katachi returns.
+        def stop(done, total):
+            raise KeyError(f"stop at {done}")
+
+        try:
+            ffi.subdivide(lib, mesh, options, stop)
+        except KeyError as e:
+            check("stop at 1" in str(e), f"the callback's exception {e!r} is not the first one")
+        else:
+            raise AssertionError("an exception in the progress callback was lost")
+
+    # The operator hands convert.subdivide a progress function that wm.progress_update
+    # follows; between reading the mesh (0.1) and the result (0.6) it moves once per level.
+    seen = []
+    real = convert.subdivide
+
+    def spy(lib, data, options, uv_mode, progress=None):
+        check(progress is not None, "the operator gave no progress function")
+
+        def record(fraction):
+            seen.append(fraction)
+            progress(fraction)
+
+        return real(lib, data, options, uv_mode, record)
+
+    convert.subdivide = spy
+    try:
+        select_only(cube)
+        subdivide(levels=4)
+    finally:
+        convert.subdivide = real
+    per_level = [f for f in seen if 0.1 < f < 0.6 + 1e-9]
+    expected = [0.1 + 0.5 * k / 4 for k in range(1, 5)]
+    check(len(per_level) >= 4 and all(near(a, b, 1e-9) for a, b in zip(per_level, expected)),
+          f"progress fractions {seen}, expected {expected} between 0.1 and 0.6")
+    check(seen == sorted(seen), f"progress went backwards: {seen}")
+    check(len(cube.data.polygons) == 6 * 4 ** 4, "the operator did not subdivide 4 levels")
+
+
+def test_bad_options_are_invalid_arguments():
+    """Bad options are KATACHI_STATUS_INVALID_ARGUMENT (an empty mesh stays BAD_INPUT); the
+    operator's Levels cannot leave katachi's range 1..8."""
+    addon = CTX["addon"]
+    ffi, convert = addon.ffi, addon.convert
+    lib = ffi.load()
+    cube = add_cube("Options")
+    with convert.to_katachi(lib, convert.InputMesh(cube.data)) as mesh:
+        for field, value in (("levels", 0), ("levels", 9), ("holes", 7), ("boundary", 9)):
+            options = lib.katachi_subdivide_options_default()
+            setattr(options, field, value)
+            try:
+                ffi.subdivide(lib, mesh, options).close()
+            except ffi.KatachiError as e:
+                check(e.status == ffi.KATACHI_STATUS_INVALID_ARGUMENT,
+                      f"{field} = {value}: status {e.status} ({e}), not INVALID_ARGUMENT")
+                check(e.function == "katachi_subdivide_with_progress", f"raised by {e.function}")
+                check(str(e), f"{field} = {value}: no message")
+            else:
+                raise AssertionError(f"{field} = {value} was accepted")
+    levels = bpy.ops.katachi.subdivide.get_rna_type().properties["levels"]
+    check((levels.hard_min, levels.hard_max) == (1, 8),
+          f"Levels ranges {levels.hard_min}..{levels.hard_max}, katachi takes 1..8")
+    # An empty mesh is bad input, not a bad argument; the operator reports it by name.
+    o = object_from("EmptyForStatus", [], [])
+    try:
+        with convert.to_katachi(lib, convert.InputMesh(o.data)) as mesh:
+            ffi.subdivide(lib, mesh, lib.katachi_subdivide_options_default()).close()
+    except ffi.KatachiError as e:
+        check(e.status == ffi.KATACHI_STATUS_BAD_INPUT,
+              f"an empty mesh: status {e.status} ({e}), not BAD_INPUT")
+    else:
+        raise AssertionError("an empty mesh was subdivided")
+    select_only(o)
+    expect_error(["katachi", "EmptyForStatus", "empty"])
 
 
 # ---- bad cases: an error with katachi's message, and nothing changed ----

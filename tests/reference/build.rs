@@ -1,6 +1,7 @@
-//! Builds the C++ shim over OpenSubdiv and OpenMesh and generates its Rust bindings.
+//! Builds the C++ shim over OpenSubdiv, OpenMesh and CGAL and generates its Rust bindings.
 //!
-//! Needs the Debian packages libosd-dev, libopenmesh-dev, libclang-dev and a C++ compiler (g++),
+//! Needs the Debian packages libosd-dev, libopenmesh-dev, libcgal-dev (with libgmp-dev and
+//! libmpfr-dev), libclang-dev and a C++ compiler (g++),
 //! which `cargo xtask deps` installs. When one is missing the build stops with a message naming
 //! the package instead of a compiler or linker error.
 //!
@@ -12,6 +13,9 @@ use std::env;
 use std::path::{Path, PathBuf};
 
 const SHIM_SOURCES: &[&str] = &["shim/osd.cpp", "shim/openmesh.cpp", "shim/result.cpp"];
+/// Compiled apart, with the flag CGAL requires of GCC (-frounding-math, for its interval filters),
+/// so that the OpenSubdiv and OpenMesh code the benchmarks time is compiled as before.
+const CGAL_SOURCES: &[&str] = &["shim/cgal_cut.cpp"];
 const SHIM_HEADERS: &[&str] = &["shim/katachi_reference.h", "shim/shim_internal.hpp"];
 
 /// (header or library file, Debian package, what it is)
@@ -26,14 +30,22 @@ const HEADERS: &[(&str, &str, &str)] = &[
         "libopenmesh-dev",
         "OpenMesh 9 headers",
     ),
+    (
+        "CGAL/Constrained_Delaunay_triangulation_2.h",
+        "libcgal-dev",
+        "CGAL 5 headers",
+    ),
+    ("mpfr.h", "libmpfr-dev", "MPFR headers (for CGAL)"),
 ];
 const LIBRARIES: &[(&str, &str, &str)] = &[
     ("osdCPU", "libosd-dev", "OpenSubdiv's CPU library"),
     ("OpenMeshCore", "libopenmesh-dev", "OpenMesh's core library"),
+    ("gmp", "libgmp-dev", "GMP (CGAL's exact numbers)"),
+    ("mpfr", "libmpfr-dev", "MPFR (CGAL's exact numbers)"),
 ];
 
 fn main() {
-    for f in SHIM_SOURCES.iter().chain(SHIM_HEADERS) {
+    for f in SHIM_SOURCES.iter().chain(CGAL_SOURCES).chain(SHIM_HEADERS) {
         println!("cargo:rerun-if-changed={f}");
     }
     for v in [
@@ -110,6 +122,31 @@ fn main() {
              It needs a C++17 compiler (Debian package g++) and the headers of OpenSubdiv >= 3.5 \
              (libosd-dev, for Far::PrimvarRefinerReal) and OpenMesh >= 9 (libopenmesh-dev); \
              `cargo xtask deps` installs them."
+        ));
+    }
+
+    // The exact stroke cut: CGAL is header-only (5.x) and uses GMP and MPFR, linked below.
+    let mut cgal = cc::Build::new();
+    cgal.cpp(true)
+        .std("c++17")
+        .opt_level(2)
+        .include("shim")
+        .warnings(true)
+        .extra_warnings(true)
+        .flag_if_supported("-Wno-maybe-uninitialized")
+        .flag_if_supported("-frounding-math")
+        .define("NDEBUG", None)
+        .files(CGAL_SOURCES);
+    for d in &include_dirs {
+        if !is_default_include(d) {
+            cgal.include(d);
+        }
+    }
+    if let Err(e) = cgal.try_compile("katachi_reference_cgal") {
+        fail(&format!(
+            "compiling the CGAL part of the shim (shim/cgal_cut.cpp) failed: {e}\n\
+             It needs a C++17 compiler (g++) and CGAL >= 5 (libcgal-dev, header-only) with \
+             GMP and MPFR (libgmp-dev, libmpfr-dev); `cargo xtask deps` installs them."
         ));
     }
 

@@ -25,6 +25,18 @@ pub const PACKAGES: &[(&str, &str)] = &[
         "OpenMesh 9 (CatmullClarkT), the second reference in tests/reference",
     ),
     (
+        "libcgal-dev",
+        "CGAL 5.5 (constrained Delaunay triangulation, exact kernel), the exact stroke cut in tests/reference",
+    ),
+    (
+        "libgmp-dev",
+        "GMP, which tests/reference links for CGAL's exact number types (also a dependency of libcgal-dev)",
+    ),
+    (
+        "libmpfr-dev",
+        "MPFR, which tests/reference links for CGAL's exact number types (also a dependency of libcgal-dev)",
+    ),
+    (
         "libclang-dev",
         "bindgen generates tests/reference's bindings with libclang",
     ),

@@ -1,5 +1,6 @@
 /*
- * katachi-reference shim: a C interface over OpenSubdiv 3.5 (Far) and OpenMesh 9 (CatmullClarkT).
+ * katachi-reference shim: a C interface over OpenSubdiv 3.5 (Far) and OpenMesh 9 (CatmullClarkT),
+ * and an exact stroke cut through CGAL 5.
  *
  * Only the Rust crate `katachi-reference` calls this; bindgen reads this header in build.rs.
  *
@@ -64,6 +65,10 @@ extern "C" {
  * OpenMesh: [building the PolyMesh, CatmullClarkT]. The shim's own copying is not counted. */
 #define KR_F64_TIMINGS 4u
 
+/* Exact stroke cut (kr_cgal_stroke_cut): minimum angle in degrees (in 3D) of each new triangle,
+ * in KR_U32_CUT_NEW_FACES order. Level 0. */
+#define KR_F64_CUT_MIN_ANGLES 5u
+
 /* uint32_t arrays of a result. */
 /* Corner count of each face. Last level always; every level with level_info. */
 #define KR_U32_FACE_SIZES 0u
@@ -93,6 +98,22 @@ extern "C" {
 #define KR_U32_EDGE_CHILD_EDGES 11u
 /* Parent face (at l - 1) of each face of level l >= 1, stored under the child level l. */
 #define KR_U32_FACE_PARENT_FACE 12u
+/* Exact stroke cut, all at level 0 (positions, face sizes and face vertices are the cut mesh's): */
+/* source face of each output face */
+#define KR_U32_FACE_ORIGIN 13u
+/* the output faces that replace a split input face (all pieces of every split face) */
+#define KR_U32_CUT_NEW_FACES 14u
+/* 3 per new vertex (new vertices follow the input ones): [0, face, face] inside that face, or
+ * [1, u, v] on the edge u < v */
+#define KR_U32_CUT_VERTEX_SOURCE 15u
+/* [faces crossed on screen, faces split, new triangles (pieces minus the faces they replace),
+ *  new vertices, faces with a corner behind the eye (w <= 0), faces with no area on screen,
+ *  faces of those two kinds split only because a neighbour put points on their edges] */
+#define KR_U32_CUT_COUNTS 16u
+
+/* Exact stroke cut modes. */
+/* Every face under the stroke is cut, front and back (the only mode the reference implements). */
+#define KR_CUT_THROUGH_ALL 0u
 
 typedef struct kr_mesh {
     uint32_t num_vertices;
@@ -125,6 +146,13 @@ typedef struct kr_fvar {
     const uint32_t *indices; /* one per face corner of the base mesh (num_face_vertices) */
 } kr_fvar;
 
+/* A view: clip = view_proj * [x, y, z, 1] (column-major), ndc = clip.xyz / clip.w, pixels
+ * (x0 + (ndc.x + 1) / 2 * width, y0 + (1 - ndc.y) / 2 * height): top-left origin, y down. */
+typedef struct kr_view {
+    double view_proj[16];
+    double viewport[4]; /* x0, y0, width, height */
+} kr_view;
+
 typedef struct kr_result kr_result;
 
 /*
@@ -143,6 +171,23 @@ uint32_t kr_osd_catmark(const kr_mesh *mesh, const kr_creases *creases, const kr
  * double-precision points, `level` steps (0..=KR_MAX_LEVEL).
  */
 uint32_t kr_openmesh_catmull_clark(const kr_mesh *mesh, uint32_t level, kr_result **out);
+
+/*
+ * Exact stroke cut of a triangle mesh (CGAL 5 Constrained_Delaunay_triangulation_2 over
+ * Exact_predicates_exact_constructions_kernel with Exact_intersections_tag). Every face whose
+ * corners are all in front of the eye (w > 0) and whose screen image has an area and meets the
+ * stroke (`num_stroke_points` pixel points, 2 doubles each) gets the stroke's pieces clipped to
+ * it as constraints of a constrained Delaunay triangulation of its screen image; new vertices are
+ * lifted onto the face with perspective-correct barycentrics (interpolated with 1 / w). A point on
+ * an edge is made once per edge and shared by all its faces; faces that cannot be cut on screen
+ * but have such points on their edges are split in their own parameter domain, so the output has
+ * no cracks. Output faces keep the input order (a split face's pieces in its place) and
+ * orientation. `mode` must be KR_CUT_THROUGH_ALL. Fewer than 2 stroke points, a zero-length
+ * stroke, non-finite values, a non-positive viewport size or non-triangle faces are
+ * KR_STATUS_BAD_ARGUMENT. KR_F64_TIMINGS holds [seconds spent cutting].
+ */
+uint32_t kr_cgal_stroke_cut(const kr_mesh *mesh, const kr_view *view, const double *stroke_px,
+                            uint32_t num_stroke_points, uint32_t mode, kr_result **out);
 
 /* The error message of a failed call ("" after success). Valid until kr_result_free. */
 const char *kr_result_message(const kr_result *result);

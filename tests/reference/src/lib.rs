@@ -5,9 +5,9 @@
 //! (`shim/`, C linkage, plain arrays, caller-freed result handles, no C++ exception crosses into
 //! Rust) is compiled by `build.rs` and bound with bindgen.
 //!
-//! Building this crate needs the Debian packages libosd-dev, libopenmesh-dev, libclang-dev and
-//! g++ (`cargo xtask deps` installs them); plain `cargo build` / `cargo test` at the workspace root
-//! never builds it.
+//! Building this crate needs the Debian packages libosd-dev, libopenmesh-dev, libcgal-dev (with
+//! libgmp-dev and libmpfr-dev), libclang-dev and g++ (`cargo xtask deps` installs them); plain
+//! `cargo build` / `cargo test` at the workspace root never builds it.
 //!
 //! Everything is `f64`: OpenSubdiv interpolates with `Far::PrimvarRefinerReal<double>` and a
 //! double-precision vertex type (the default `Far::PrimvarRefiner` weighs in `float`), and
@@ -37,6 +37,15 @@
 //!   its edges, in face and edge order), then the two halves of each parent edge (in parent edge
 //!   order; half `k` is `(e', v_k')` at the parent edge's vertex `k`).
 //!
+//! ## Exact stroke cut (CGAL 5)
+//!
+//! [`cgal_stroke_cut`] is the exact reference for katachi's stroke cut (seed 002, issue 5): every
+//! stroke segment clipped to every face under it is a constraint of a constrained Delaunay
+//! triangulation of that face's screen image, with exact predicates and constructions, and the new
+//! vertices are lifted back onto the face. It counts the new triangles and measures their minimum
+//! angles, the figures the paper's simpler cut is compared on. [`cut_setup`] builds views and
+//! strokes for a model, so that the kernel's comparison test uses the same ones.
+//!
 //! OpenMesh keeps the input vertices first, in input order, too; its other vertices and its
 //! faces come in its own order (compare meshes by position, as `tests/reference.rs` does).
 //!
@@ -64,6 +73,8 @@
 use std::collections::BTreeMap;
 use std::ops::Range;
 use std::time::Duration;
+
+pub mod cut_setup;
 
 #[allow(
     non_camel_case_types,
@@ -625,6 +636,169 @@ fn run_osd(
         )
     };
     Handle::new(status, out)
+}
+
+/// A view of the stroke cut: `clip = view_proj * [x, y, z, 1]` (column-major),
+/// `ndc = clip.xyz / clip.w`, and pixels with a top-left origin, y down:
+/// `(x0 + (ndc.x + 1) / 2 * width, y0 + (1 - ndc.y) / 2 * height)`. Perspective and orthographic
+/// matrices alike; [`cut_setup::look_at_bounds`] builds one.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CutView {
+    /// The 4x4 view-projection matrix, column-major (glam's `to_cols_array`).
+    pub view_proj: [f64; 16],
+    /// `[x0, y0, width, height]` in pixels.
+    pub viewport: [f64; 4],
+}
+
+/// Which faces the exact cut cuts.
+///
+/// Default value: `ThroughAll` (the only mode the reference implements).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum CutMode {
+    /// Every face under the stroke, front- or back-facing, occluded or not.
+    #[default]
+    ThroughAll,
+}
+
+/// Where a vertex the exact cut created lies on the input mesh.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum NewVertexSource {
+    /// Inside input face `f` (a stroke point inside it, or where the stroke crosses itself there).
+    Face(u32),
+    /// On the input edge `(u, v)`, `u < v` (where the stroke crosses it), shared by its faces.
+    Edge(u32, u32),
+}
+
+/// The result of [`cgal_stroke_cut`].
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct ExactCut {
+    /// The cut mesh, triangles only: the input vertices first (unchanged), then the new ones;
+    /// faces in input order, each split face replaced in place by its pieces (same orientation).
+    pub mesh: RefMesh,
+    /// The input face of each output face.
+    pub face_origin: Vec<u32>,
+    /// The output faces that replace split input faces: every piece of every split face.
+    pub new_faces: Vec<u32>,
+    /// The minimum angle, in degrees and in 3D, of each face of `new_faces` (same order).
+    pub new_face_min_angles: Vec<f64>,
+    /// Where each new vertex (output vertex `num_input_vertices + i`) lies on the input.
+    pub new_vertex_sources: Vec<NewVertexSource>,
+    /// Faces whose screen image meets the stroke (corners in front of the eye, non-zero area).
+    pub crossed_faces: usize,
+    /// Input faces replaced by two or more pieces.
+    pub split_faces: usize,
+    /// New triangles: the pieces minus the faces they replace (`new_faces.len() - split_faces`).
+    pub new_triangles: usize,
+    /// Faces with a corner behind the eye (`w <= 0`), never cut on screen.
+    pub faces_behind_eye: usize,
+    /// Faces whose screen image has no area, never cut on screen.
+    pub faces_without_area: usize,
+    /// Faces of the two kinds above split only because a neighbour put points on their edges.
+    pub faces_split_by_neighbours: usize,
+    /// Time spent in the cut (projection excluded, copying out excluded).
+    pub time: Duration,
+}
+
+impl ExactCut {
+    /// The smallest minimum angle of the new triangles, in degrees; `None` if nothing was split.
+    pub fn min_angle(&self) -> Option<f64> {
+        self.new_face_min_angles.iter().copied().reduce(f64::min)
+    }
+
+    /// The number of vertices the cut created.
+    pub fn num_new_vertices(&self) -> usize {
+        self.new_vertex_sources.len()
+    }
+
+    /// The output triangles.
+    pub fn triangles(&self) -> impl Iterator<Item = [u32; 3]> + '_ {
+        self.mesh
+            .face_vertices
+            .chunks_exact(3)
+            .map(|t| [t[0], t[1], t[2]])
+    }
+}
+
+/// The exact stroke cut of a triangle mesh, through CGAL 5: for every face whose corners are in
+/// front of the eye (`w > 0`) and whose screen image has an area and meets the stroke, the
+/// stroke's pieces clipped to the face become constraints of a `Constrained_Delaunay_triangulation_2`
+/// of its screen image (`Exact_predicates_exact_constructions_kernel`, `Exact_intersections_tag`:
+/// constructed points lie exactly on their edges, so neighbours share them); new vertices are
+/// lifted onto the face with perspective-correct barycentrics (interpolated with `1 / w`).
+/// Crossings of an edge are made once per edge and shared by all faces of the edge, also by a
+/// neighbour that cannot be cut on screen (it is split in its own parameter domain), so the
+/// output has no cracks.
+///
+/// `stroke` is in pixels (see [`CutView`]); consecutive equal points are merged. Errors
+/// (`"bad argument: ..."`): fewer than 2 points, a zero-length stroke, a non-finite value in the
+/// mesh, the matrix, the viewport or the stroke, a non-positive viewport size, a face that is
+/// not a triangle.
+pub fn cgal_stroke_cut(
+    mesh: &RefMesh,
+    view: &CutView,
+    stroke: &[[f64; 2]],
+    mode: CutMode,
+) -> Result<ExactCut, String> {
+    let input = MeshIn::new(mesh)?;
+    let raw_view = sys::kr_view {
+        view_proj: view.view_proj,
+        viewport: view.viewport,
+    };
+    let raw_mode = match mode {
+        CutMode::ThroughAll => sys::KR_CUT_THROUGH_ALL,
+    };
+    let mut out: *mut sys::kr_result = std::ptr::null_mut();
+    // SAFETY: `input.raw` points into `mesh` and `stroke.as_ptr()` into `stroke` (`[f64; 2]` is 2
+    // contiguous doubles), both borrowed for the call, with counts taken from the slices.
+    let status = unsafe {
+        sys::kr_cgal_stroke_cut(
+            &input.raw,
+            &raw_view,
+            stroke.as_ptr().cast(),
+            count(stroke.len(), "stroke points")?,
+            raw_mode,
+            &mut out,
+        )
+    };
+    let r = Handle::new(status, out)?;
+    let cut_mesh = r.mesh(0)?;
+    let counts = r.u32(sys::KR_U32_CUT_COUNTS, 0);
+    let [crossed, split, new_tris, new_verts, behind, no_area, by_neighbours] = counts[..] else {
+        return Err(format!("internal: {} cut counts", counts.len()));
+    };
+    let new_vertex_sources: Vec<NewVertexSource> = r
+        .u32_slice(sys::KR_U32_CUT_VERTEX_SOURCE, 0)
+        .chunks_exact(3)
+        .map(|c| match c[0] {
+            0 => NewVertexSource::Face(c[1]),
+            _ => NewVertexSource::Edge(c[1], c[2]),
+        })
+        .collect();
+    let new_faces = r.u32(sys::KR_U32_CUT_NEW_FACES, 0);
+    let new_face_min_angles = r.f64(sys::KR_F64_CUT_MIN_ANGLES, 0);
+    let face_origin = r.u32(sys::KR_U32_FACE_ORIGIN, 0);
+    if new_vertex_sources.len() != new_verts as usize
+        || new_face_min_angles.len() != new_faces.len()
+        || face_origin.len() != cut_mesh.num_faces()
+        || cut_mesh.num_vertices() != mesh.num_vertices() + new_verts as usize
+    {
+        return Err("internal: the cut's arrays do not agree in length".into());
+    }
+    let seconds = r.f64(sys::KR_F64_TIMINGS, 0);
+    Ok(ExactCut {
+        mesh: cut_mesh,
+        face_origin,
+        new_faces,
+        new_face_min_angles,
+        new_vertex_sources,
+        crossed_faces: crossed as usize,
+        split_faces: split as usize,
+        new_triangles: new_tris as usize,
+        faces_behind_eye: behind as usize,
+        faces_without_area: no_area as usize,
+        faces_split_by_neighbours: by_neighbours as usize,
+        time: RefTimings::from_seconds(&seconds).build,
+    })
 }
 
 fn count(n: usize, what: &str) -> Result<u32, String> {

@@ -124,13 +124,11 @@ impl<T> Buf<T> {
             Some((ptr, map)) => Buf {
                 repr: Repr::Mapped { ptr, len: n, map },
             },
-            _ => {
-                // SAFETY: `T: Zeroable`.
-                let v = (0..n).map(|_| unsafe { std::mem::zeroed::<T>() }).collect();
-                Buf {
-                    repr: Repr::Heap(v),
-                }
-            }
+            _ => Buf {
+                // SAFETY: `T: Zeroable`. `vec!` of a zero value allocates zeroed memory
+                // (calloc) for these types, which is not touched until written.
+                repr: Repr::Heap(vec![unsafe { std::mem::zeroed::<T>() }; n]),
+            },
         }
     }
 

@@ -111,7 +111,8 @@ pub(crate) fn plan(
     };
     let ((face_child, refined, interior_edges, vertex_faces), (vertex_edges, any_sharp)) =
         rayon::join(faces_pass, || rayon::join(edges_pass, sharp_pass));
-    let mut child_sharpness = Buf::<[f32; 2]>::zeroed(ne);
+    // Read only where some edge is sharp: empty on smooth levels.
+    let mut child_sharpness = Buf::<[f32; 2]>::zeroed(if any_sharp { ne } else { 0 });
     let mut masks = Vec::new();
     if any_sharp {
         // Chaikin needs, at each vertex, the sum and count of its semi-sharp edges.
@@ -298,7 +299,11 @@ pub(crate) fn interpolate<T: Primvar>(
             let fp = &face_out[fc as usize];
             for c in parent.face_corners(f) {
                 let e = parent.corner_edges[c] as usize;
-                let w = face_weight(parent.edge_sharpness[e], step.child_sharpness[e]);
+                let w = if sharp {
+                    face_weight(parent.edge_sharpness[e], step.child_sharpness[e])
+                } else {
+                    0.25
+                };
                 if w != 0.0 {
                     edge_out[e].add_scaled(fp, w);
                 }
@@ -563,8 +568,9 @@ pub(crate) fn child_level(parent: &Level, step: &Step, last: bool) -> Level {
     }
 
     if last {
-        // Only the creases that remain, for the output mesh.
-        for (e, &[a, b]) in parent.edge_verts.iter().enumerate() {
+        // Only the creases that remain, for the output mesh (none after a smooth level).
+        let sharp = !step.masks.is_empty();
+        for (e, &[a, b]) in parent.edge_verts.iter().enumerate().filter(|_| sharp) {
             if parent.edge_forced[e] {
                 continue;
             }

@@ -75,27 +75,39 @@ impl Level {
         let corners: Vec<u32> = mesh.corners().iter().map(|v| v.0).collect();
         let loop_offsets = mesh.loop_offsets().to_vec();
         let n = corners.len();
-        // Next vertex of each corner in its loop.
-        let mut head = vec![0u32; n];
-        for w in loop_offsets.windows(2) {
-            let (a, b) = (w[0] as usize, w[1] as usize);
-            head[a..b - 1].copy_from_slice(&corners[a + 1..b]);
-            head[b - 1] = corners[a];
-        }
-        // Corners bucketed by vertex (counting sort).
-        let mut start = vec![0u32; nv + 1];
-        for &v in &corners {
-            start[v as usize + 1] += 1;
-        }
-        for i in 0..nv {
-            start[i + 1] += start[i];
-        }
+        // Next and previous vertex of each corner in its loop; beside them, corners counted
+        // per vertex.
+        let next_prev = || {
+            let (mut head, mut tail) = (vec![0u32; n], vec![0u32; n]);
+            for w in loop_offsets.windows(2) {
+                let (a, b) = (w[0] as usize, w[1] as usize);
+                head[a..b - 1].copy_from_slice(&corners[a + 1..b]);
+                head[b - 1] = corners[a];
+                tail[a + 1..b].copy_from_slice(&corners[a..b - 1]);
+                tail[a] = corners[b - 1];
+            }
+            (head, tail)
+        };
+        let counts = || {
+            let mut start = vec![0u32; nv + 1];
+            for &v in &corners {
+                start[v as usize + 1] += 1;
+            }
+            for i in 0..nv {
+                start[i + 1] += start[i];
+            }
+            start
+        };
+        let ((head, tail), start) = rayon::join(next_prev, counts);
+        // Corners bucketed by vertex (counting sort), each with its next and previous vertex
+        // beside it: the scans below then read each bucket contiguously.
         let mut fill = start.clone();
-        let mut at = vec![0u32; n];
+        let mut at = vec![[0u32; 3]; n];
         for (k, &v) in corners.iter().enumerate() {
-            at[fill[v as usize] as usize] = k as u32;
+            at[fill[v as usize] as usize] = [k as u32, head[k], tail[k]];
             fill[v as usize] += 1;
         }
+        drop(fill);
         let bucket = |v: u32| &at[start[v as usize] as usize..start[v as usize + 1] as usize];
 
         // Edges by first use in corner order; count the face sides of each.
@@ -110,15 +122,15 @@ impl Level {
             let e = edge_verts.len() as u32;
             let mut sides = 0u32;
             let mut same_direction = 0u32;
-            for &j in bucket(a) {
-                if head[j as usize] == b {
+            for &[j, next, _] in bucket(a) {
+                if next == b {
                     corner_edges[j as usize] = e;
                     sides += 1;
                     same_direction += 1;
                 }
             }
-            for &j in bucket(b) {
-                if head[j as usize] == a {
+            for &[j, next, _] in bucket(b) {
+                if next == a {
                     corner_edges[j as usize] = e;
                     sides += 1;
                 }
@@ -136,9 +148,9 @@ impl Level {
         let find_edge = |a: u32, b: u32| -> Option<u32> {
             bucket(a)
                 .iter()
-                .find(|&&j| head[j as usize] == b)
-                .or_else(|| bucket(b).iter().find(|&&j| head[j as usize] == a))
-                .map(|&j| corner_edges[j as usize])
+                .find(|c| c[1] == b)
+                .or_else(|| bucket(b).iter().find(|c| c[1] == a))
+                .map(|c| corner_edges[c[0] as usize])
         };
         for (a, b, s) in mesh.sharp_edges() {
             if let Some(e) = find_edge(a.0, b.0) {
@@ -174,22 +186,17 @@ impl Level {
             // A boundary vertex with a single face is a corner.
             for v in 0..nv as u32 {
                 let b = bucket(v);
-                if b.len() == 1 && edge_forced[corner_edges[b[0] as usize] as usize] {
+                if b.len() == 1 && edge_forced[corner_edges[b[0][0] as usize] as usize] {
                     vertex_forced[v as usize] = true;
                 }
             }
         }
-        let mut tail = vec![0u32; n];
-        for w in loop_offsets.windows(2) {
-            let (a, b) = (w[0] as usize, w[1] as usize);
-            tail[a + 1..b].copy_from_slice(&corners[a..b - 1]);
-            tail[a] = corners[b - 1];
-        }
+        drop((head, tail));
         // One fan per vertex, checked in parallel (each vertex on its own).
         let fans: Vec<bool> = (0..nv)
             .into_par_iter()
             .with_min_len(4096)
-            .map(|v| single_fan(&at[start[v] as usize..start[v + 1] as usize], &head, &tail))
+            .map(|v| single_fan(&at[start[v] as usize..start[v + 1] as usize]))
             .collect();
         for (v, single) in fans.into_iter().enumerate() {
             if !single {
@@ -226,26 +233,20 @@ impl Level {
     }
 }
 
-/// Whether the corners at one vertex (`at_v`, with next and previous vertices `head`,
-/// `tail`) form one fan. Fast path: the chain "next vertex of one corner = previous vertex
-/// of the next corner" visits every corner. Otherwise (two fans touching, or non-manifold
-/// edges) faces are grouped across any shared edge at the vertex, and one group is one fan,
-/// as `Topology` defines a non-manifold vertex.
-fn single_fan(at_v: &[u32], head: &[u32], tail: &[u32]) -> bool {
+/// Whether the corners at one vertex (`at_v`: corner, next vertex, previous vertex) form one
+/// fan. Fast path: the chain "next vertex of one corner = previous vertex of the next corner"
+/// visits every corner. Otherwise (two fans touching, or non-manifold edges) faces are
+/// grouped across any shared edge at the vertex, and one group is one fan, as `Topology`
+/// defines a non-manifold vertex.
+fn single_fan(at_v: &[[u32; 3]]) -> bool {
     let d = at_v.len();
     if d <= 1 {
         return true;
     }
-    let succ = |k: u32| {
-        at_v.iter()
-            .copied()
-            .find(|&j| tail[j as usize] == head[k as usize])
-    };
-    let start = at_v
-        .iter()
-        .copied()
-        .find(|&k| !at_v.iter().any(|&j| head[j as usize] == tail[k as usize]))
-        .unwrap_or(at_v[0]);
+    let succ = |i: usize| at_v.iter().position(|c| c[2] == at_v[i][1]);
+    let start = (0..d)
+        .find(|&i| !at_v.iter().any(|c| c[1] == at_v[i][2]))
+        .unwrap_or(0);
     let (mut cur, mut visited) = (start, 1);
     while let Some(j) = succ(cur) {
         if j == start || visited > d {
@@ -267,9 +268,8 @@ fn single_fan(at_v: &[u32], head: &[u32], tail: &[u32]) -> bool {
     }
     for i in 0..d {
         for j in i + 1..d {
-            let (ki, kj) = (at_v[i] as usize, at_v[j] as usize);
-            let ends_i = [head[ki], tail[ki]];
-            if ends_i.contains(&head[kj]) || ends_i.contains(&tail[kj]) {
+            let ends_i = [at_v[i][1], at_v[i][2]];
+            if ends_i.contains(&at_v[j][1]) || ends_i.contains(&at_v[j][2]) {
                 let (a, b) = (root(&mut group, i), root(&mut group, j));
                 group[a.max(b)] = a.min(b);
             }

@@ -280,8 +280,10 @@ def ptr(buffer, ctype):
     return ctypes.cast((ctype * n).from_buffer(buffer), POINTER(ctype))
 
 
-class Mesh:
-    """Owns a ``KatachiMesh*``; frees it on :meth:`close` (a context manager)."""
+class _Handle:
+    """Owns a katachi handle; frees it with ``FREE`` on :meth:`close` (a context manager)."""
+
+    FREE = None
 
     def __init__(self, lib, handle):
         self.lib = lib
@@ -295,8 +297,14 @@ class Mesh:
 
     def close(self):
         if self.handle:
-            self.lib.katachi_mesh_free(self.handle)
+            getattr(self.lib, self.FREE)(self.handle)
             self.handle = None
+
+
+class Mesh(_Handle):
+    """Owns a ``KatachiMesh*``."""
+
+    FREE = "katachi_mesh_free"
 
     def counts(self):
         c = self.lib.katachi_mesh_counts_default()
@@ -309,23 +317,10 @@ class Mesh:
         return info
 
 
-class Subdivision:
-    """Owns a ``KatachiSubdivision*``; frees it on :meth:`close` (a context manager)."""
+class Subdivision(_Handle):
+    """Owns a ``KatachiSubdivision*``."""
 
-    def __init__(self, lib, handle):
-        self.lib = lib
-        self.handle = handle
-
-    def __enter__(self):
-        return self
-
-    def __exit__(self, *exc):
-        self.close()
-
-    def close(self):
-        if self.handle:
-            self.lib.katachi_subdivision_free(self.handle)
-            self.handle = None
+    FREE = "katachi_subdivision_free"
 
     def info(self):
         i = self.lib.katachi_subdivision_info_default()

@@ -23,7 +23,7 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 use crate::ctest::target_dir;
-use crate::util::{describe, have, root, run as run_cmd};
+use crate::util::{describe, have, parse_summary, root, run as run_cmd};
 
 const USAGE: &str = "usage: cargo xtask blender-test [--only 3.4|5.0] [-k NAME]";
 
@@ -303,24 +303,4 @@ pub fn screenshot(args: &[&str]) -> Result<(), String> {
     std::fs::copy(&tmp, &png).map_err(|e| format!("{}: {e}", png.display()))?;
     eprintln!("xtask: blender-screenshot: wrote {}", png.display());
     Ok(())
-}
-
-/// `"12 passed, 0 failed"` → `(12, 0)`.
-fn parse_summary(line: &str) -> Option<(u64, u64)> {
-    let (p, f) = line.trim().split_once(", ")?;
-    let passed = p.strip_suffix(" passed")?.parse().ok()?;
-    let failed = f.strip_suffix(" failed")?.parse().ok()?;
-    Some((passed, failed))
-}
-
-#[cfg(test)]
-mod tests {
-    use super::parse_summary;
-
-    #[test]
-    fn summary_lines() {
-        assert_eq!(parse_summary("17 passed, 0 failed"), Some((17, 0)));
-        assert_eq!(parse_summary("3 passed, 2 failed"), Some((3, 2)));
-        assert_eq!(parse_summary("Blender quit"), None);
-    }
 }

@@ -17,7 +17,7 @@ use std::ffi::OsString;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use crate::util::{describe, have, root, run as run_cmd};
+use crate::util::{describe, have, parse_summary, root, run as run_cmd};
 
 const USAGE: &str = "usage: cargo xtask ctest [--no-valgrind] [NAME…]";
 
@@ -261,25 +261,5 @@ fn run_program(p: &Program, exe: &Path, valgrind: bool) -> Result<u64, String> {
             "{} exited 0 but did not end with `N passed, 0 failed` (last line: {last:?})",
             p.name
         )),
-    }
-}
-
-/// `"12 passed, 0 failed"` → `(12, 0)`.
-fn parse_summary(line: &str) -> Option<(u64, u64)> {
-    let (p, f) = line.trim().split_once(", ")?;
-    let passed = p.strip_suffix(" passed")?.parse().ok()?;
-    let failed = f.strip_suffix(" failed")?.parse().ok()?;
-    Some((passed, failed))
-}
-
-#[cfg(test)]
-mod tests {
-    use super::parse_summary;
-
-    #[test]
-    fn summary_lines() {
-        assert_eq!(parse_summary("191 passed, 0 failed"), Some((191, 0)));
-        assert_eq!(parse_summary("3 passed, 2 failed\n"), Some((3, 2)));
-        assert_eq!(parse_summary("ok   something"), None);
     }
 }

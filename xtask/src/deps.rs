@@ -5,7 +5,7 @@
 
 use std::process::Command;
 
-use crate::util::{self, have};
+use crate::util::{self, have, is_root};
 
 /// Debian packages, each with why it is needed.
 pub const PACKAGES: &[(&str, &str)] = &[
@@ -101,14 +101,6 @@ fn installed(pkg: &str) -> bool {
         .args(["-W", "-f=${Status}", pkg])
         .output()
         .map(|o| String::from_utf8_lossy(&o.stdout).contains("install ok installed"))
-        .unwrap_or(false)
-}
-
-fn is_root() -> bool {
-    Command::new("id")
-        .arg("-u")
-        .output()
-        .map(|o| String::from_utf8_lossy(&o.stdout).trim() == "0")
         .unwrap_or(false)
 }
 

@@ -32,7 +32,7 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
 use crate::ctest::target_dir;
-use crate::util::{describe, have, root, run as run_cmd};
+use crate::util::{describe, have, is_root, root, run as run_cmd, run_in};
 
 const USAGE: &str = "usage: cargo xtask meshlab-plugin [--test]";
 
@@ -224,20 +224,6 @@ fn find_source(dir: &Path) -> Option<PathBuf> {
     found.pop()
 }
 
-/// Runs a command in `dir`, echoing it.
-fn run_in(dir: &Path, cmd: &mut Command) -> Result<(), String> {
-    cmd.current_dir(dir);
-    eprintln!("xtask: (in {}) $ {}", dir.display(), describe(cmd));
-    let status = cmd
-        .status()
-        .map_err(|e| format!("cannot start `{}`: {e}", describe(cmd)))?;
-    if status.success() {
-        Ok(())
-    } else {
-        Err(format!("`{}` failed ({status})", describe(cmd)))
-    }
-}
-
 const APT_DIR: &str = "/etc/apt";
 const OUR_SOURCES: &str = "katachi-deb-src";
 
@@ -317,14 +303,6 @@ fn ensure_deb_src() -> Result<(), String> {
             .args(["update", "-q"])
             .env("DEBIAN_FRONTEND", "noninteractive"),
     )
-}
-
-fn is_root() -> bool {
-    Command::new("id")
-        .arg("-u")
-        .output()
-        .map(|o| String::from_utf8_lossy(&o.stdout).trim() == "0")
-        .unwrap_or(false)
 }
 
 /// Splits deb822 text into stanzas (blank-line separated), comment lines dropped.

@@ -15,6 +15,17 @@ pub fn root() -> PathBuf {
 pub fn run(cmd: &mut Command) -> Result<(), String> {
     cmd.current_dir(root());
     eprintln!("xtask: $ {}", describe(cmd));
+    wait(cmd)
+}
+
+/// [`run`] in another directory.
+pub fn run_in(dir: &Path, cmd: &mut Command) -> Result<(), String> {
+    cmd.current_dir(dir);
+    eprintln!("xtask: (in {}) $ {}", dir.display(), describe(cmd));
+    wait(cmd)
+}
+
+fn wait(cmd: &mut Command) -> Result<(), String> {
     let status = cmd
         .status()
         .map_err(|e| format!("cannot start `{}`: {e}", describe(cmd)))?;
@@ -47,4 +58,34 @@ pub fn have(program: &str) -> bool {
 /// The cargo that runs xtask (`$CARGO`), so the same toolchain builds everything.
 pub fn cargo() -> String {
     std::env::var("CARGO").unwrap_or_else(|_| "cargo".into())
+}
+
+/// Whether this process runs as root.
+pub fn is_root() -> bool {
+    Command::new("id")
+        .arg("-u")
+        .output()
+        .map(|o| String::from_utf8_lossy(&o.stdout).trim() == "0")
+        .unwrap_or(false)
+}
+
+/// A test program's last line, `"12 passed, 0 failed"` → `(12, 0)`.
+pub fn parse_summary(line: &str) -> Option<(u64, u64)> {
+    let (p, f) = line.trim().split_once(", ")?;
+    let passed = p.strip_suffix(" passed")?.parse().ok()?;
+    let failed = f.strip_suffix(" failed")?.parse().ok()?;
+    Some((passed, failed))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::parse_summary;
+
+    #[test]
+    fn summary_lines() {
+        assert_eq!(parse_summary("191 passed, 0 failed"), Some((191, 0)));
+        assert_eq!(parse_summary("3 passed, 2 failed\n"), Some((3, 2)));
+        assert_eq!(parse_summary("ok   something"), None);
+        assert_eq!(parse_summary("Blender quit"), None);
+    }
 }

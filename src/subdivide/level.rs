@@ -100,14 +100,27 @@ impl Level {
         };
         let ((head, tail), start) = rayon::join(next_prev, counts);
         // Corners bucketed by vertex (counting sort), each with its next and previous vertex
-        // beside it: the scans below then read each bucket contiguously.
-        let mut fill = start.clone();
+        // beside it: the scans below then read each bucket contiguously. Two halves of the
+        // vertices fill their own buckets side by side, each reading every corner.
         let mut at = vec![[0u32; 3]; n];
-        for (k, &v) in corners.iter().enumerate() {
-            at[fill[v as usize] as usize] = [k as u32, head[k], tail[k]];
-            fill[v as usize] += 1;
+        let mid = nv / 2;
+        let (low, high) = at.split_at_mut(start[mid] as usize);
+        let fill = |out: &mut [[u32; 3]], vertices: std::ops::Range<usize>| {
+            let base = start[vertices.start];
+            let mut next: Vec<u32> = start[vertices.clone()].iter().map(|&s| s - base).collect();
+            for (k, &v) in corners.iter().enumerate() {
+                if vertices.contains(&(v as usize)) {
+                    let slot = &mut next[v as usize - vertices.start];
+                    out[*slot as usize] = [k as u32, head[k], tail[k]];
+                    *slot += 1;
+                }
+            }
+        };
+        if rayon::current_num_threads() > 1 {
+            rayon::join(|| fill(low, 0..mid), || fill(high, mid..nv));
+        } else {
+            fill(&mut at, 0..nv);
         }
-        drop(fill);
         let bucket = |v: u32| &at[start[v as usize] as usize..start[v as usize + 1] as usize];
 
         // Edges by first use in corner order; count the face sides of each.

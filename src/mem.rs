@@ -30,6 +30,20 @@ pub(crate) fn with_capacity<T>(n: usize) -> Vec<T> {
     v
 }
 
+/// `n` zero points, from zeroed memory (calloc): no pass writes the zeros, fresh pages are
+/// zeroed by the kernel when first written (in parallel passes), huge where advised.
+pub(crate) fn zero_points(n: usize) -> Vec<glam::DVec3> {
+    let mut flat = std::mem::ManuallyDrop::new(vec![0.0f64; 3 * n]);
+    advise(
+        flat.as_ptr().cast(),
+        flat.capacity() * std::mem::size_of::<f64>(),
+    );
+    assert_eq!(flat.capacity(), 3 * n, "vec! allocates exactly");
+    // SAFETY: DVec3 is three f64 (repr(C), align 8), so 3n f64 are n DVec3 with the same
+    // allocation layout; all-zero bits are DVec3::ZERO.
+    unsafe { Vec::from_raw_parts(flat.as_mut_ptr().cast(), n, n) }
+}
+
 /// `n` copies of `value` (as `vec![value; n]`), written after the pages are advised huge.
 pub(crate) fn filled<T: Clone>(n: usize, value: T) -> Vec<T> {
     let mut v = with_capacity(n);

@@ -64,13 +64,10 @@ impl Level {
         self.loop_offsets[l] as usize..self.loop_offsets[l + 1] as usize
     }
 
-    /// Level 0 from a validated mesh. `keep_face` says which faces are kept whole (their
-    /// loop edges become infinitely sharp, seed 001 §3.2 method [b]).
-    pub fn from_mesh(
-        mesh: &PolyMesh,
-        options: &SubdivideOptions,
-        keep_face: &dyn Fn(u32) -> bool,
-    ) -> Result<Level> {
+    /// Level 0 from a validated mesh. Faces with holes are kept whole (their loop edges
+    /// become infinitely sharp, seed 001 §3.2 method [b]); method [a] has bridged the others
+    /// before this.
+    pub fn from_mesh(mesh: &PolyMesh, options: &SubdivideOptions) -> Result<Level> {
         let nv = mesh.vertex_count() as usize;
         let corners: Vec<u32> = mesh.corners().iter().map(|v| v.0).collect();
         let loop_offsets = mesh.loop_offsets().to_vec();
@@ -123,36 +120,48 @@ impl Level {
         }
         let bucket = |v: u32| &at[start[v as usize] as usize..start[v as usize + 1] as usize];
 
-        // Edges by first use in corner order; count the face sides of each.
-        let mut corner_edges = vec![u32::MAX; n];
-        let mut edge_verts = Vec::with_capacity(n / 2 + 8);
-        let mut edge_forced = Vec::with_capacity(n / 2 + 8);
-        for k in 0..n {
-            if corner_edges[k] != u32::MAX {
-                continue;
-            }
-            let (a, b) = (corners[k], head[k]);
-            let e = edge_verts.len() as u32;
-            let mut sides = 0u32;
-            let mut same_direction = 0u32;
-            for &[j, next, _] in bucket(a) {
-                if next == b {
-                    corner_edges[j as usize] = e;
-                    sides += 1;
-                    same_direction += 1;
+        // Edges by first use in corner order, counting the face sides of each; beside it,
+        // whether each vertex's corners form one fan (each vertex on its own, in parallel).
+        let edges = || {
+            let mut corner_edges = vec![u32::MAX; n];
+            let mut edge_verts = Vec::with_capacity(n / 2 + 8);
+            let mut edge_forced = Vec::with_capacity(n / 2 + 8);
+            for k in 0..n {
+                if corner_edges[k] != u32::MAX {
+                    continue;
                 }
-            }
-            for &[j, next, _] in bucket(b) {
-                if next == a {
-                    corner_edges[j as usize] = e;
-                    sides += 1;
+                let (a, b) = (corners[k], head[k]);
+                let e = edge_verts.len() as u32;
+                let mut sides = 0u32;
+                let mut same_direction = 0u32;
+                for &[j, next, _] in bucket(a) {
+                    if next == b {
+                        corner_edges[j as usize] = e;
+                        sides += 1;
+                        same_direction += 1;
+                    }
                 }
+                for &[j, next, _] in bucket(b) {
+                    if next == a {
+                        corner_edges[j as usize] = e;
+                        sides += 1;
+                    }
+                }
+                edge_verts.push([a, b]);
+                // Boundary, non-manifold, or traversed twice the same way: infinitely sharp
+                // (OpenSubdiv's treatment; spec §4.1, §4.2).
+                edge_forced.push(sides != 2 || same_direction != 1);
             }
-            edge_verts.push([a, b]);
-            // Boundary, non-manifold, or traversed twice the same way: infinitely sharp
-            // (OpenSubdiv's treatment; spec §4.1, §4.2).
-            edge_forced.push(sides != 2 || same_direction != 1);
-        }
+            (corner_edges, edge_verts, edge_forced)
+        };
+        let fans = || -> Vec<bool> {
+            (0..nv)
+                .into_par_iter()
+                .with_min_len(4096)
+                .map(|v| single_fan(&at[start[v] as usize..start[v + 1] as usize]))
+                .collect()
+        };
+        let ((corner_edges, edge_verts, edge_forced), fans) = rayon::join(edges, fans);
         let ne = edge_verts.len();
         let mut edge_sharpness: Vec<f32> = edge_forced
             .iter()
@@ -178,8 +187,10 @@ impl Level {
         let face_count = mesh.face_count() as usize;
         let face_loops = mesh.face_loop_offsets().to_vec();
         let mut face_kept = vec![false; face_count];
-        for f in 0..face_count {
-            if keep_face(f as u32) {
+        // Only faces with holes are kept: none when there are as many loops as faces.
+        let any_holes = loop_offsets.len() - 1 > face_count;
+        for f in (0..face_count).filter(|_| any_holes) {
+            if face_loops[f + 1] - face_loops[f] > 1 {
                 face_kept[f] = true;
                 let (l0, l1) = (face_loops[f] as usize, face_loops[f + 1] as usize);
                 for c in loop_offsets[l0] as usize..loop_offsets[l1] as usize {
@@ -205,12 +216,6 @@ impl Level {
             }
         }
         drop((head, tail));
-        // One fan per vertex, checked in parallel (each vertex on its own).
-        let fans: Vec<bool> = (0..nv)
-            .into_par_iter()
-            .with_min_len(4096)
-            .map(|v| single_fan(&at[start[v] as usize..start[v + 1] as usize]))
-            .collect();
         for (v, single) in fans.into_iter().enumerate() {
             if !single {
                 vertex_forced[v] = true;

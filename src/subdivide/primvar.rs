@@ -16,6 +16,10 @@ pub trait Primvar: Clone + Send + Sync {
         z.add_scaled(self, w);
         z
     }
+    /// `n` zeros, for outputs handed to the caller.
+    fn zeros(n: usize) -> Vec<Self> {
+        crate::mem::filled(n, Self::zero())
+    }
 }
 
 impl Primvar for f64 {
@@ -41,6 +45,10 @@ impl Primvar for DVec2 {
 impl Primvar for DVec3 {
     fn zero() -> Self {
         DVec3::ZERO
+    }
+    /// Zeroed memory: positions are the largest output, and no pass need write its zeros.
+    fn zeros(n: usize) -> Vec<Self> {
+        crate::mem::zero_points(n)
     }
     #[inline]
     fn add_scaled(&mut self, other: &Self, w: f64) {

@@ -194,7 +194,7 @@ pub(crate) fn interpolate<T: Primvar>(
     let ne = parent.edge_count() as usize;
     let n = nv + step.refined + ne;
     let mut out = if output {
-        Buf::from(mem::filled(n, T::zero()))
+        Buf::from(T::zeros(n))
     } else {
         Buf::filled(n, T::zero())
     };

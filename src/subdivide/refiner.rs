@@ -90,8 +90,7 @@ impl Refiner {
         let mut report = SubdivideReport::default();
         let prepared = prepare(mesh, options, &mut report)?;
         let m0 = prepared.mesh(mesh);
-        let keep = |f: u32| m0.face_loop_count(FaceId(f)) > 1;
-        let mut levels = vec![Level::from_mesh(m0, options, &keep)?];
+        let mut levels = vec![Level::from_mesh(m0, options)?];
         let mut steps = vec![refine::plan(
             &levels[0],
             options.crease_method,

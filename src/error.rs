@@ -112,6 +112,31 @@ pub enum Error {
         option: &'static str,
         message: String,
     },
+    /// A stroke has fewer than two points left once points closer than `min_px` to the
+    /// previous kept point are dropped (stroke cut, seed 002).
+    #[error("the stroke has {points} point(s) at least {min_px} px apart; a cut needs at least 2")]
+    StrokeTooShort { points: u32, min_px: f64 },
+    /// A stroke point has a NaN or infinite coordinate.
+    #[error("stroke point {index}: coordinate {axis} is {value}, not a finite number")]
+    NonFiniteStrokePoint { index: u32, axis: Axis, value: f64 },
+    /// Two segments of a stroke cross or touch (seed 002 §2.2 assumes a stroke that does not
+    /// cross itself). Segment `i` joins input points `i` and the next kept point.
+    #[error("the stroke crosses itself: segment {first} (from point {first}) meets segment {second} (from point {second})")]
+    StrokeSelfIntersects { first: u32, second: u32 },
+    /// A view-projection matrix entry is NaN or infinite (column-major: `column`, `row`).
+    #[error(
+        "view-projection matrix entry (column {column}, row {row}) is {value}, not a finite number"
+    )]
+    NonFiniteMatrixEntry { column: u32, row: u32, value: f64 },
+    /// The view-projection matrix cannot be inverted, so moved vertices cannot be unprojected.
+    #[error("the view-projection matrix is singular (determinant {determinant})")]
+    SingularViewProjection { determinant: f64 },
+    /// The viewport is not finite or has no area.
+    #[error("viewport [x0, y0, width, height] = {viewport:?}: {reason}")]
+    InvalidViewport {
+        viewport: [f64; 4],
+        reason: &'static str,
+    },
     /// An argument is invalid (used by the C ABI and the CLI for things that are not mesh data).
     #[error("{0}")]
     InvalidArgument(String),

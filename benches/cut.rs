@@ -1,0 +1,184 @@
+//! Stroke cut (seed 002, issue 5): the cut's time against the floor, one projection pass over
+//! all vertices (view-projection, divide, viewport into a fresh screen array), and against a
+//! clone of the mesh (the cost of any function returning a new mesh), in one run.
+//! Goal: ≤ 3 × the floor on 1M triangles with a 50-point stroke. Meshes: triangulated tori of
+//! 10k, 100k and 1M triangles, and the shared `spot_quadrangulated.obj` subdivided 4 times and
+//! triangulated (1.5M triangles). Both modes; all cores (the machine has 2). A table of
+//! medians and ratios is printed at the end.
+
+use std::time::{Duration, Instant};
+
+use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
+use glam::{DMat4, DVec2, DVec3};
+use katachi::cut::{cut_by_stroke, CutMode, CutOptions, Stroke, View};
+use katachi::mesh::shapes;
+use katachi::subdivide::{catmull_clark, SubdivideOptions};
+use katachi::PolyMesh;
+use rayon::prelude::*;
+
+fn triangulate(quads: &PolyMesh) -> PolyMesh {
+    let tris: Vec<[u32; 3]> = quads
+        .faces()
+        .flat_map(|f| {
+            let q = quads.face_outer(f);
+            [[q[0].0, q[1].0, q[2].0], [q[0].0, q[2].0, q[3].0]]
+        })
+        .collect();
+    PolyMesh::from_polygons(quads.positions().to_vec(), tris.iter()).unwrap()
+}
+
+fn meshes() -> Vec<(String, PolyMesh)> {
+    let mut v: Vec<(String, PolyMesh)> = [(71u32, "10k"), (224, "100k"), (707, "1M")]
+        .iter()
+        .map(|&(n, name)| {
+            let m = triangulate(&shapes::torus(n, n, 2.0, 0.7));
+            (format!("torus {name} ({} tris)", m.face_count()), m)
+        })
+        .collect();
+    let spot = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../shared/data/models/spot_quadrangulated.obj"
+    );
+    match katachi::io::read(std::path::Path::new(spot)) {
+        Ok(m) => {
+            let sub = catmull_clark(&m, &SubdivideOptions::with_levels(4))
+                .unwrap()
+                .mesh;
+            let t = triangulate(&sub);
+            v.push((format!("spot L4 ({} tris)", t.face_count()), t));
+        }
+        Err(e) => eprintln!("spot not benchmarked: {e}"),
+    }
+    v
+}
+
+/// A perspective view of the whole mesh from above and aside, 1280 × 720.
+fn view_of(mesh: &PolyMesh) -> View {
+    let (lo, hi) = mesh.bounding_box().unwrap();
+    let c = (lo + hi) / 2.0;
+    let r = (hi - lo).length() / 2.0;
+    let eye = c + DVec3::new(0.3, -0.9, 1.2).normalize() * r * 2.2;
+    let vp = DMat4::perspective_rh_gl(45f64.to_radians(), 1280.0 / 720.0, 0.01 * r, 10.0 * r)
+        * DMat4::look_at_rh(eye, c, DVec3::Z);
+    View::new(vp, [0.0, 0.0, 1280.0, 720.0])
+}
+
+/// 50 points across the view, a gentle wave.
+fn stroke() -> Stroke {
+    Stroke::new(
+        (0..50)
+            .map(|i| {
+                let t = i as f64 / 49.0;
+                DVec2::new(200.0 + 880.0 * t, 360.0 + 60.0 * (t * 6.0).sin())
+            })
+            .collect(),
+    )
+}
+
+/// The floor: every vertex through the view-projection matrix and viewport.
+fn project_all(mesh: &PolyMesh, view: &View) -> Vec<DVec2> {
+    let (vp, v) = (view.view_proj, view.viewport);
+    let mut out = Vec::new();
+    mesh.positions()
+        .par_iter()
+        .with_min_len(1 << 14)
+        .map(|&p| {
+            let c = vp * p.extend(1.0);
+            let inv = 1.0 / c.w;
+            DVec2::new(
+                v[0] + (c.x * inv + 1.0) * 0.5 * v[2],
+                v[1] + (1.0 - c.y * inv) * 0.5 * v[3],
+            )
+        })
+        .collect_into_vec(&mut out);
+    out
+}
+
+fn median(mut f: impl FnMut(), runs: usize) -> Duration {
+    let mut t: Vec<Duration> = (0..runs)
+        .map(|_| {
+            let s = Instant::now();
+            f();
+            s.elapsed()
+        })
+        .collect();
+    t.sort();
+    t[runs / 2]
+}
+
+fn cut(c: &mut Criterion) {
+    let s = stroke();
+    let mut table = Vec::new();
+    for (name, mesh) in meshes() {
+        let view = view_of(&mesh);
+        let mut g = c.benchmark_group(format!("cut {name}"));
+        g.sample_size(10);
+        g.warm_up_time(Duration::from_millis(300));
+        g.measurement_time(Duration::from_secs(2));
+        g.bench_function("floor: project all vertices", |b| {
+            b.iter_with_large_drop(|| project_all(&mesh, &view))
+        });
+        g.bench_function("clone the mesh", |b| {
+            b.iter_with_large_drop(|| mesh.clone())
+        });
+        for mode in [CutMode::VisibleOnly, CutMode::ThroughAll] {
+            let o = CutOptions::with_mode(mode);
+            g.bench_with_input(BenchmarkId::new("cut", format!("{mode:?}")), &o, |b, o| {
+                b.iter_with_large_drop(|| cut_by_stroke(&mesh, &s, &view, o).unwrap())
+            });
+        }
+        g.finish();
+        // Side by side, interleaved, for the ratio.
+        let runs = 9;
+        let floor = median(
+            || drop(std::hint::black_box(project_all(&mesh, &view))),
+            runs,
+        );
+        let copy = median(|| drop(std::hint::black_box(mesh.clone())), runs);
+        for mode in [CutMode::VisibleOnly, CutMode::ThroughAll] {
+            let o = CutOptions::with_mode(mode);
+            let out = cut_by_stroke(&mesh, &s, &view, &o).unwrap();
+            let t = median(
+                || {
+                    drop(std::hint::black_box(
+                        cut_by_stroke(&mesh, &s, &view, &o).unwrap(),
+                    ))
+                },
+                runs,
+            );
+            table.push((
+                name.clone(),
+                format!("{mode:?}"),
+                floor,
+                copy,
+                t,
+                out.report.new_faces,
+                out.report.paths.len(),
+            ));
+        }
+    }
+    eprintln!("\nstroke cut, 50-point stroke, medians of 9 runs (all cores):");
+    eprintln!("(floor: one projection pass; clone: PolyMesh::clone, what any new output costs)");
+    eprintln!(
+        "{:<28} {:<12} {:>9} {:>9} {:>9} {:>7} {:>8} {:>9} {:>6}",
+        "mesh", "mode", "floor", "clone", "cut", "/floor", "/clone", "new faces", "paths"
+    );
+    for (name, mode, floor, copy, t, nf, np) in table {
+        let ms = |d: Duration| d.as_secs_f64() * 1e3;
+        eprintln!(
+            "{:<28} {:<12} {:>7.2}ms {:>7.2}ms {:>7.2}ms {:>6.1}x {:>7.1}x {:>9} {:>6}",
+            name,
+            mode,
+            ms(floor),
+            ms(copy),
+            ms(t),
+            ms(t) / ms(floor),
+            ms(t) / ms(copy),
+            nf,
+            np
+        );
+    }
+}
+
+criterion_group!(benches, cut);
+criterion_main!(benches);

@@ -1,0 +1,414 @@
+//! Finding the faces near the stroke in two streaming passes, the only work proportional to
+//! the whole mesh (issue 5: the cut's budget is measured against one projection pass).
+//!
+//! A grid over the stroke's bounding box (grown by the snap margin), with cells about one
+//! edge long, marks the cells within the margin of some stroke segment. Pass 1 projects every
+//! vertex and stores its cell (clamped to one ring of "outside" cells, or "behind the eye"),
+//! with a bit saying whether the cell is next to a marked one; pass 2 keeps a face when the
+//! cell box of its corners covers a marked cell — a conservative test, so every face within
+//! the margin of the stroke is kept; most faces are rejected from the bits alone. Both passes
+//! run on rayon in fixed chunks and concatenate in chunk order, so the result does not
+//! depend on the thread count. [`refine`] then keeps the candidates truly within the margin.
+
+use glam::{DVec2, DVec3};
+use rayon::prelude::*;
+
+use super::view::Projector;
+use crate::mesh::VertexId;
+
+/// Vertex code for "behind the eye".
+pub(crate) const BEHIND: u32 = u32::MAX;
+const CHUNK: usize = 1 << 14;
+
+/// The grid over the stroke: geometry, marked cells and the segments near each cell.
+#[derive(Debug, Clone)]
+pub(crate) struct CellGrid {
+    pub origin: DVec2,
+    pub cell: f64,
+    pub nx: i32,
+    pub ny: i32,
+    inv_cell: f64,
+    marked: Vec<bool>,
+    /// Marked cells grown by one cell (8-neighbourhood): a vertex outside it belongs to no
+    /// face that can touch a marked cell unless the face spans more than one cell.
+    near: Vec<bool>,
+    /// CSR: segments within the margin of cell `c` are `seg_list[seg_start[c]..seg_start[c+1]]`.
+    seg_start: Vec<u32>,
+    seg_list: Vec<u32>,
+}
+
+impl CellGrid {
+    /// `segments[i]` = (a, b); `margin` ≥ 0 pixels; cells about `cell_hint` pixels wide
+    /// (the expected edge length: a band of cells then holds few faces beyond those the
+    /// stroke meets), at most 2048 along a side and 2^20 in all.
+    pub fn new(segments: &[(DVec2, DVec2)], margin: f64, cell_hint: f64) -> Self {
+        let mut lo = DVec2::splat(f64::INFINITY);
+        let mut hi = DVec2::splat(f64::NEG_INFINITY);
+        for &(a, b) in segments {
+            lo = lo.min(a).min(b);
+            hi = hi.max(a).max(b);
+        }
+        lo -= DVec2::splat(margin);
+        hi += DVec2::splat(margin);
+        let ext = hi - lo;
+        let long = ext.x.max(ext.y);
+        let mut cell = cell_hint.max(long / 2048.0).max(1e-6);
+        if (ext.x / cell + 1.0) * (ext.y / cell + 1.0) > (1u64 << 20) as f64 {
+            cell = ((ext.x * ext.y) / (1u64 << 20) as f64).sqrt().max(cell);
+        }
+        let nx = ((ext.x / cell).ceil() as i32).max(1);
+        let ny = ((ext.y / cell).ceil() as i32).max(1);
+        let ncell = (nx * ny) as usize;
+        let mut marked = vec![false; ncell];
+        let mut pairs: Vec<(u32, u32)> = Vec::new();
+        let half_diag = cell * std::f64::consts::FRAC_1_SQRT_2;
+        for (si, &(a, b)) in segments.iter().enumerate() {
+            let (smin, smax) = (
+                a.min(b) - DVec2::splat(margin),
+                a.max(b) + DVec2::splat(margin),
+            );
+            let (x0, y0) = cell_of(lo, cell, smin);
+            let (x1, y1) = cell_of(lo, cell, smax);
+            for cy in y0.max(0)..=y1.min(ny - 1) {
+                for cx in x0.max(0)..=x1.min(nx - 1) {
+                    let centre = lo + DVec2::new(cx as f64 + 0.5, cy as f64 + 0.5) * cell;
+                    // Conservative: the cell may hold a point within `margin` of the segment.
+                    if point_segment_distance(centre, a, b) <= margin + half_diag * 1.0001 {
+                        let c = (cy * nx + cx) as usize;
+                        marked[c] = true;
+                        pairs.push((c as u32, si as u32));
+                    }
+                }
+            }
+        }
+        let mut near = marked.clone();
+        for cy in 0..ny {
+            for cx in 0..nx {
+                if marked[(cy * nx + cx) as usize] {
+                    for y in (cy - 1).max(0)..=(cy + 1).min(ny - 1) {
+                        for x in (cx - 1).max(0)..=(cx + 1).min(nx - 1) {
+                            near[(y * nx + x) as usize] = true;
+                        }
+                    }
+                }
+            }
+        }
+        pairs.sort_unstable();
+        let mut seg_start = vec![0u32; ncell + 1];
+        for &(c, _) in &pairs {
+            seg_start[c as usize + 1] += 1;
+        }
+        for i in 0..ncell {
+            seg_start[i + 1] += seg_start[i];
+        }
+        let seg_list = pairs.into_iter().map(|(_, s)| s).collect();
+        CellGrid {
+            origin: lo,
+            cell,
+            nx,
+            ny,
+            inv_cell: 1.0 / cell,
+            marked,
+            near,
+            seg_start,
+            seg_list,
+        }
+    }
+
+    /// The vertex code of a screen point: its cell, clamped to one outside ring, packed
+    /// (x in bits 0-15, y in 16-30), and bit 31 set when the cell is near a marked one.
+    /// (No `floor`: without SSE4.1 it is a libm call, and this runs once per vertex.)
+    #[inline]
+    pub fn code(&self, s: DVec2) -> u32 {
+        let q = (s - self.origin) * self.inv_cell;
+        let clamp = |x: f64, n: i32| -> u32 {
+            if x.is_nan() || x < 0.0 {
+                0
+            } else if x >= n as f64 {
+                n as u32 + 1
+            } else {
+                x as u32 + 1
+            }
+        };
+        let (cx, cy) = (clamp(q.x, self.nx), clamp(q.y, self.ny));
+        let inside = cx >= 1 && cy >= 1 && cx <= self.nx as u32 && cy <= self.ny as u32;
+        let near = inside && self.near[((cy - 1) * self.nx as u32 + cx - 1) as usize];
+        cx | (cy << 16) | ((near as u32) << 31)
+    }
+
+    /// Inclusive cell range of a box, clamped to the grid; `None` when it misses the grid.
+    pub fn range(&self, lo: DVec2, hi: DVec2) -> Option<(i32, i32, i32, i32)> {
+        let (x0, y0) = cell_of(self.origin, self.cell, lo);
+        let (x1, y1) = cell_of(self.origin, self.cell, hi);
+        if x1 < 0 || y1 < 0 || x0 >= self.nx || y0 >= self.ny {
+            return None;
+        }
+        Some((
+            x0.max(0),
+            y0.max(0),
+            x1.min(self.nx - 1),
+            y1.min(self.ny - 1),
+        ))
+    }
+
+    /// Whether any cell of the inclusive range of packed codes is marked.
+    #[inline]
+    fn any_marked(&self, codes: [u32; 3]) -> bool {
+        let xs = codes.map(|c| (c & 0xffff) as i32 - 1);
+        let ys = codes.map(|c| ((c >> 16) & 0x7fff) as i32 - 1);
+        let (x0, x1) = (xs[0].min(xs[1]).min(xs[2]), xs[0].max(xs[1]).max(xs[2]));
+        let (y0, y1) = (ys[0].min(ys[1]).min(ys[2]), ys[0].max(ys[1]).max(ys[2]));
+        // Fast reject: a face within one cell each way touches a marked cell only if all
+        // its corners are near one.
+        if (codes[0] | codes[1] | codes[2]) >> 31 == 0 && x1 - x0 <= 1 && y1 - y0 <= 1 {
+            return false;
+        }
+        if x1 < 0 || y1 < 0 || x0 >= self.nx || y0 >= self.ny {
+            return false;
+        }
+        for cy in y0.max(0)..=y1.min(self.ny - 1) {
+            let row = (cy * self.nx) as usize;
+            for cx in x0.max(0)..=x1.min(self.nx - 1) {
+                if self.marked[row + cx as usize] {
+                    return true;
+                }
+            }
+        }
+        false
+    }
+
+    /// Segments near cell (cx, cy).
+    #[inline]
+    pub fn segments_at(&self, cx: i32, cy: i32) -> &[u32] {
+        let c = (cy * self.nx + cx) as usize;
+        &self.seg_list[self.seg_start[c] as usize..self.seg_start[c + 1] as usize]
+    }
+}
+
+#[inline]
+pub(crate) fn cell_of(origin: DVec2, cell: f64, s: DVec2) -> (i32, i32) {
+    let q = (s - origin) / cell;
+    // Saturating float → int casts keep far-away points far away.
+    (q.x.floor() as i32, q.y.floor() as i32)
+}
+
+pub(crate) fn point_segment_distance(p: DVec2, a: DVec2, b: DVec2) -> f64 {
+    let ab = b - a;
+    let len2 = ab.length_squared();
+    let t = if len2 > 0.0 {
+        ((p - a).dot(ab) / len2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    (a + ab * t - p).length()
+}
+
+/// Pass 1: every vertex's code, and (the same read) a copy of the positions for the output,
+/// with room for the vertices the cut may add.
+pub(crate) fn vertex_codes(
+    positions: &[DVec3],
+    proj: &Projector,
+    grid: &CellGrid,
+) -> (Vec<u32>, Vec<DVec3>) {
+    let n = positions.len();
+    let mut codes: Vec<u32> = crate::mem::with_capacity(n);
+    let mut copy: Vec<DVec3> = crate::mem::with_capacity(n + n / 64 + 1024);
+    positions
+        .par_iter()
+        .with_min_len(CHUNK)
+        .map(|&p| {
+            let code = match proj.see(p) {
+                Some(s) => grid.code(s.screen),
+                None => BEHIND,
+            };
+            (code, p)
+        })
+        .unzip_into_vecs(&mut codes, &mut copy);
+    (codes, copy)
+}
+
+/// Pass 2: candidate triangles (ascending) and triangles straddling the eye plane that the
+/// grid would otherwise keep or cannot judge (ascending).
+pub(crate) fn candidate_faces(
+    corners: &[VertexId],
+    codes: &[u32],
+    grid: &CellGrid,
+) -> (Vec<u32>, Vec<u32>) {
+    let chunks: Vec<(Vec<u32>, Vec<u32>)> = corners
+        .par_chunks(3 * CHUNK)
+        .enumerate()
+        .map(|(ci, chunk)| {
+            let base = (ci * CHUNK) as u32;
+            let mut keep = Vec::new();
+            let mut clipped = Vec::new();
+            for (i, t) in chunk.chunks_exact(3).enumerate() {
+                let c = [codes[t[0].idx()], codes[t[1].idx()], codes[t[2].idx()]];
+                // Fast reject, the common case: no corner near the band (BEHIND has that
+                // bit set too) and the face within one cell each way.
+                if (c[0] | c[1] | c[2]) >> 31 == 0 {
+                    let (x, y) = (c.map(|v| v & 0xffff), c.map(|v| v >> 16));
+                    let dx = x[0].max(x[1]).max(x[2]) - x[0].min(x[1]).min(x[2]);
+                    let dy = y[0].max(y[1]).max(y[2]) - y[0].min(y[1]).min(y[2]);
+                    if dx <= 1 && dy <= 1 {
+                        continue;
+                    }
+                }
+                let behind = c.iter().filter(|&&x| x == BEHIND).count();
+                if behind == 0 {
+                    if grid.any_marked(c) {
+                        keep.push(base + i as u32);
+                    }
+                } else if behind < 3 {
+                    // Straddling the eye plane: never cut, but kept so an edge it shares with
+                    // a cut face gets its split vertex too (no T-junction).
+                    keep.push(base + i as u32);
+                    clipped.push(base + i as u32);
+                }
+            }
+            (keep, clipped)
+        })
+        .collect();
+    let mut keep = Vec::with_capacity(chunks.iter().map(|c| c.0.len()).sum());
+    let mut clipped = Vec::new();
+    for (k, c) in chunks {
+        keep.extend(k);
+        clipped.extend(c);
+    }
+    (keep, clipped)
+}
+
+/// Pass 3, on the candidates only: keep the faces whose screen triangle comes within
+/// `margin` of the stroke, and tell which ones the stroke meets (for L). Plain f64 with a
+/// relative slack on the margin: membership only needs to be conservative (a face around a
+/// vertex within the margin is at most as far as that vertex, by the same arithmetic), and
+/// L is a mean; every topological decision is taken later by exact predicates. Every face around a vertex within `margin` of the
+/// stroke is kept, so is every face the stroke crosses or that can hide a crossing.
+pub(crate) fn refine(
+    positions: &[DVec3],
+    corners: &[VertexId],
+    cands: &[u32],
+    proj: &Projector,
+    grid: &CellGrid,
+    segments: &[(DVec2, DVec2)],
+    margin: f64,
+) -> Vec<(u32, bool)> {
+    let keep = margin * (1.0 + 1e-9) + 1e-12;
+    let chunks: Vec<Vec<(u32, bool)>> = cands
+        .par_chunks(1024)
+        .map(|chunk| {
+            let mut out = Vec::with_capacity(chunk.len());
+            let mut segs: Vec<u32> = Vec::new();
+            // Segments already gathered for the current face (no sort per face).
+            let mut stamp: Vec<u32> = vec![u32::MAX; segments.len()];
+            for &f in chunk {
+                let t = &corners[3 * f as usize..3 * f as usize + 3];
+                let seen = [t[0], t[1], t[2]].map(|v| proj.see(positions[v.idx()]));
+                let [Some(s0), Some(s1), Some(s2)] = seen else {
+                    out.push((f, false)); // straddles the eye plane: kept, never cut
+                    continue;
+                };
+                let s = [s0.screen, s1.screen, s2.screen];
+                let (lo, hi) = (s[0].min(s[1]).min(s[2]), s[0].max(s[1]).max(s[2]));
+                let pad = DVec2::splat(keep);
+                segs.clear();
+                if let Some((x0, y0, x1, y1)) = grid.range(lo - pad, hi + pad) {
+                    for cy in y0..=y1 {
+                        for cx in x0..=x1 {
+                            for &k in grid.segments_at(cx, cy) {
+                                if stamp[k as usize] != f {
+                                    stamp[k as usize] = f;
+                                    segs.push(k);
+                                }
+                            }
+                        }
+                    }
+                }
+                let mut near = false;
+                let mut meets = false;
+                for &k in &segs {
+                    let (a, b) = segments[k as usize];
+                    if a.max(b).cmplt(lo - pad).any() || a.min(b).cmpgt(hi + pad).any() {
+                        continue;
+                    }
+                    let d = segment_triangle_distance(a, b, s);
+                    if d <= keep {
+                        near = true;
+                        if d == 0.0 {
+                            meets = true;
+                            break;
+                        }
+                    }
+                }
+                if near {
+                    out.push((f, meets));
+                }
+            }
+            out
+        })
+        .collect();
+    chunks.into_iter().flatten().collect()
+}
+
+/// Distance between a segment and a triangle on screen (0 when they meet), f64.
+fn segment_triangle_distance(a: DVec2, b: DVec2, t: [DVec2; 3]) -> f64 {
+    let cross = |o: DVec2, p: DVec2, q: DVec2| (p - o).perp_dot(q - o);
+    let inside = |p: DVec2| {
+        let o = [
+            cross(t[0], t[1], p),
+            cross(t[1], t[2], p),
+            cross(t[2], t[0], p),
+        ];
+        !(o.iter().any(|&v| v > 0.0) && o.iter().any(|&v| v < 0.0))
+    };
+    if inside(a) || inside(b) {
+        return 0.0;
+    }
+    let mut d = f64::INFINITY;
+    for i in 0..3 {
+        let (p, q) = (t[i], t[(i + 1) % 3]);
+        let (o1, o2) = (cross(a, b, p), cross(a, b, q));
+        let (o3, o4) = (cross(p, q, a), cross(p, q, b));
+        if o1 * o2 <= 0.0 && o3 * o4 <= 0.0 && (o1 != 0.0 || o2 != 0.0) {
+            return 0.0;
+        }
+        d = d
+            .min(point_segment_distance(a, p, q))
+            .min(point_segment_distance(b, p, q))
+            .min(point_segment_distance(p, a, b));
+    }
+    d
+}
+
+/// A cheap guess of the mean screen edge length from up to ~2k evenly spaced faces, to size
+/// the snap margin before the real L is known (a wrong guess costs a second pass, never a
+/// wrong result).
+pub(crate) fn sample_edge_length(
+    positions: &[DVec3],
+    corners: &[VertexId],
+    proj: &Projector,
+) -> f64 {
+    let nf = corners.len() / 3;
+    if nf == 0 {
+        return 0.0;
+    }
+    let step = (nf / 2048).max(1);
+    let (mut sum, mut n) = (0.0, 0u32);
+    for f in (0..nf).step_by(step) {
+        let t = &corners[3 * f..3 * f + 3];
+        let s: Vec<_> = t
+            .iter()
+            .filter_map(|v| proj.see(positions[v.idx()]))
+            .collect();
+        if s.len() == 3 {
+            for i in 0..3 {
+                sum += (s[i].screen - s[(i + 1) % 3].screen).length();
+                n += 1;
+            }
+        }
+    }
+    if n == 0 {
+        0.0
+    } else {
+        sum / n as f64
+    }
+}

@@ -1,0 +1,416 @@
+//! First normalization (seed 002 §3.3, Fig. 5): the stroke becomes the array A of the model
+//! elements it meets — vertices V_j and edge crossings E_i — in stroke order, one array per
+//! chain of faces it passes through (one sheet, one visible stretch; spec §6.14).
+//!
+//! Every element is found by exact predicates: a vertex is met when `orient2d` puts it on a
+//! segment (snapped vertices sit exactly on stroke points), an edge when the segment and the
+//! edge strictly separate each other's ends, or a stroke point lies inside the edge. Stroke
+//! points strictly inside a face are not elements: they are what the first normalization
+//! drops. Piece ends strictly inside a face become interior points P (seed 002 §3.4, Fig. 12).
+//!
+//! Chains: for each face, consecutive elements (in stroke order) that the stroke joins
+//! through the face's interior form a *visit*; visits sharing an element link into chains.
+//! Where two visits begin or end at one element (a silhouette seen through all sheets) the
+//! chain ends, so each chain is one sheet.
+
+use glam::{DVec2, DVec3};
+
+use super::geom::{in_triangle, on_segment, orient};
+use super::region::{Region, NONE};
+use super::snap::Polyline;
+use super::visibility::FaceBuckets;
+
+/// A model element the stroke meets.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub(crate) enum Elem {
+    /// A local vertex.
+    V(u32),
+    /// Local edge `edge` crossed by segment `at`, or (`on_point`) containing stroke point `at`.
+    E { edge: u32, at: u32, on_point: bool },
+    /// Piece end point `point` (canonical polyline index) strictly inside local face `face`.
+    P { point: u32, face: u32 },
+}
+
+/// One meeting of the stroke with an element, at stroke position `key` = (index, t): a point
+/// `index` when `t == 0`, else the point at parameter `t` of segment `index`.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Occ {
+    pub key: (u32, f64),
+    pub elem: Elem,
+    pub screen: DVec2,
+    /// E: screen parameter along `edges[edge]` from its first to its second vertex.
+    pub edge_t: f64,
+    /// P: screen barycentrics in the face.
+    pub bary: [f64; 3],
+    pub visible: bool,
+}
+
+pub(crate) fn key_cmp(a: (u32, f64), b: (u32, f64)) -> std::cmp::Ordering {
+    a.0.cmp(&b.0).then(a.1.total_cmp(&b.1))
+}
+
+/// The last polyline index of a closed stroke stands for index 0.
+#[inline]
+pub(crate) fn canon(line: &Polyline, closed: bool, j: u32) -> u32 {
+    if closed && j as usize == line.pts.len() - 1 {
+        0
+    } else {
+        j
+    }
+}
+
+/// All meetings of the stroke with elements of cuttable faces, sorted by key.
+/// `seg_range[si]` = the polyline segments inside prepared segment `si`.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn find_occurrences(
+    region: &Region,
+    line: &Polyline,
+    closed: bool,
+    prepared_segments_near: &dyn Fn(DVec2, DVec2, &mut Vec<u32>),
+    seg_range: &[(u32, u32)],
+    piece_ends: &[u32],
+    buckets: &FaceBuckets,
+    visible_only: bool,
+    end_snap: f64,
+    ends_moved: &mut Vec<u32>,
+) -> Vec<Occ> {
+    let pts = &line.pts;
+    let last = (pts.len() - 1) as u32;
+    let mut occ: Vec<Occ> = Vec::new();
+    let mut near: Vec<u32> = Vec::new();
+    let mk = |key: (u32, f64), elem: Elem, screen: DVec2| Occ {
+        key,
+        elem,
+        screen,
+        edge_t: 0.0,
+        bary: [0.0; 3],
+        visible: true,
+    };
+    for (e, &[ia, ib]) in region.edges.iter().enumerate() {
+        let ef = region.edge_faces[e];
+        if !ef.iter().any(|&f| f != NONE && region.cuttable[f as usize]) {
+            continue;
+        }
+        let (a, b) = (region.screen(ia), region.screen(ib));
+        near.clear();
+        prepared_segments_near(a.min(b), a.max(b), &mut near);
+        for &si in near.iter() {
+            let (j0, j1) = seg_range[si as usize];
+            for k in j0..j1 {
+                let (p, q) = (pts[k as usize], pts[k as usize + 1]);
+                // Boxes apart: nothing to meet (exact: comparisons only).
+                if p.x.max(q.x) < a.x.min(b.x)
+                    || p.x.min(q.x) > a.x.max(b.x)
+                    || p.y.max(q.y) < a.y.min(b.y)
+                    || p.y.min(q.y) > a.y.max(b.y)
+                {
+                    continue;
+                }
+                let (o1, o2) = (orient(p, q, a), orient(p, q, b));
+                for (v, x, o) in [(ia, a, o1), (ib, b, o2)] {
+                    if o == 0.0 && on_segment(p, q, x) {
+                        let key = if x == p {
+                            (k, 0.0)
+                        } else if x == q {
+                            (k + 1, 0.0)
+                        } else {
+                            let pq = q - p;
+                            (k, ((x - p).dot(pq) / pq.length_squared()).clamp(0.0, 1.0))
+                        };
+                        occ.push(mk(key, Elem::V(v), x));
+                    }
+                }
+                if o1 * o2 < 0.0 {
+                    let (o3, o4) = (orient(a, b, p), orient(a, b, q));
+                    let edge_t = o1 / (o1 - o2);
+                    let (key, on_point) = if o3 * o4 < 0.0 {
+                        ((k, o3 / (o3 - o4)), false)
+                    } else if o3 == 0.0 {
+                        ((k, 0.0), true)
+                    } else if o4 == 0.0 && k + 1 == last {
+                        ((k + 1, 0.0), true)
+                    } else {
+                        continue;
+                    };
+                    let screen = if on_point {
+                        pts[key.0 as usize]
+                    } else {
+                        p + (q - p) * key.1
+                    };
+                    let at = if on_point {
+                        canon(line, closed, key.0)
+                    } else {
+                        k
+                    };
+                    let mut o = mk(
+                        key,
+                        Elem::E {
+                            edge: e as u32,
+                            at,
+                            on_point,
+                        },
+                        screen,
+                    );
+                    o.edge_t = edge_t;
+                    occ.push(o);
+                } else if o1 == 0.0 && o2 == 0.0 {
+                    // The segment runs along the edge's line: stroke points strictly inside
+                    // the edge are on it.
+                    let ab = b - a;
+                    for (j, x) in [(k, p), (k + 1, q)] {
+                        if (j == k || j == last) && x != a && x != b && on_segment(a, b, x) {
+                            let mut o = mk(
+                                (j, 0.0),
+                                Elem::E {
+                                    edge: e as u32,
+                                    at: canon(line, closed, j),
+                                    on_point: true,
+                                },
+                                x,
+                            );
+                            o.edge_t = (x - a).dot(ab) / ab.length_squared();
+                            occ.push(o);
+                        }
+                    }
+                }
+            }
+        }
+    }
+    // Piece ends strictly inside faces (seed 002 §3.4, Figs. 12-13).
+    for &j in piece_ends {
+        let s = pts[j as usize];
+        for lf in buckets.faces_at(s) {
+            if !region.cuttable[lf as usize] {
+                continue;
+            }
+            let [a, b, c] = region.face_screen(lf);
+            if in_triangle(a, b, c, region.sign[lf as usize], s) == Some(true) {
+                // An end this close to an edge (a third of the segment snap distance) would
+                // make a sliver of the 1 → 3 split: it goes onto the edge instead, splitting
+                // it (gap-fill: spec §4 step 4's "ties → edge" widened).
+                if let Some((edge, t, foot)) = near_edge(region, lf, s, end_snap) {
+                    let mut o = mk(
+                        (j, 0.0),
+                        Elem::E {
+                            edge,
+                            at: canon(line, closed, j),
+                            on_point: true,
+                        },
+                        foot,
+                    );
+                    o.edge_t = t;
+                    occ.push(o);
+                    ends_moved.push(j);
+                    continue;
+                }
+                let mut o = mk(
+                    (j, 0.0),
+                    Elem::P {
+                        point: canon(line, closed, j),
+                        face: lf,
+                    },
+                    s,
+                );
+                o.bary = super::geom::barycentric(a, b, c, s);
+                occ.push(o);
+            }
+        }
+    }
+    occ.sort_by(|x, y| key_cmp(x.key, y.key).then(x.elem.cmp(&y.elem)));
+    occ.dedup_by(|x, y| x.elem == y.elem && key_cmp(x.key, y.key).is_eq());
+    if closed {
+        // The closing point is both the first and the last point.
+        let extra: Vec<Occ> = occ
+            .iter()
+            .filter(|o| o.key == (0, 0.0))
+            .map(|o| Occ {
+                key: (last, 0.0),
+                ..*o
+            })
+            .collect();
+        occ.retain(|o| o.key.0 != last);
+        occ.extend(extra);
+        occ.sort_by(|x, y| key_cmp(x.key, y.key).then(x.elem.cmp(&y.elem)));
+    }
+    if visible_only {
+        for o in occ.iter_mut() {
+            let (z, x) = elem_depth(region, o);
+            o.visible = !buckets.hidden(region, o.screen, z, x);
+        }
+        // In visible-only mode a piece end inside faces belongs to the nearest visible one.
+        occ.retain(|o| !matches!(o.elem, Elem::P { .. }) || o.visible);
+    }
+    occ
+}
+
+/// The edge of face `lf` nearest to `s` if closer than `reach` with its foot strictly inside
+/// the edge: (local edge, screen parameter from its first vertex, foot).
+fn near_edge(region: &Region, lf: u32, s: DVec2, reach: f64) -> Option<(u32, f64, DVec2)> {
+    let mut best: Option<(f64, u32, f64, DVec2)> = None;
+    let sign = region.sign[lf as usize];
+    for &e in &region.face_edges[lf as usize] {
+        // Not onto an edge into another sheet (a silhouette): that would split its face.
+        let other = region.edge_faces[e as usize]
+            .into_iter()
+            .find(|&f| f != lf && f != NONE);
+        if other.is_some_and(|f| region.sign[f as usize] != sign) {
+            continue;
+        }
+        let [u, w] = region.edges[e as usize];
+        let (a, b) = (region.screen(u), region.screen(w));
+        let ab = b - a;
+        let t = (s - a).dot(ab) / ab.length_squared();
+        if !(t > 0.0 && t < 1.0) {
+            continue;
+        }
+        let foot = a + ab * t;
+        let d = (foot - s).length();
+        if d < reach && best.map_or(true, |b| (d, e) < (b.0, b.1)) {
+            best = Some((d, e, t, foot));
+        }
+    }
+    best.map(|(_, e, t, foot)| (e, t, foot))
+}
+
+/// NDC depth and world position of an occurrence (perspective-correct, spec §4 step 5).
+pub(crate) fn elem_depth(region: &Region, o: &Occ) -> (f64, DVec3) {
+    match o.elem {
+        Elem::V(v) => (
+            region.seen[v as usize].expect("projectable").z,
+            region.pos[v as usize],
+        ),
+        Elem::E { edge, .. } => {
+            let [a, b] = region.edges[edge as usize];
+            let (sa, sb) = (
+                region.seen[a as usize].unwrap(),
+                region.seen[b as usize].unwrap(),
+            );
+            let s = o.edge_t;
+            let t = s * sa.w / ((1.0 - s) * sb.w + s * sa.w);
+            (
+                sa.z + (sb.z - sa.z) * s,
+                region.pos[a as usize].lerp(region.pos[b as usize], t),
+            )
+        }
+        Elem::P { face, .. } => {
+            let t = region.tri[face as usize];
+            let seen = t.map(|v| region.seen[v as usize].unwrap());
+            let l = o.bary;
+            let z = l[0] * seen[0].z + l[1] * seen[1].z + l[2] * seen[2].z;
+            let m = [l[0] / seen[0].w, l[1] / seen[1].w, l[2] / seen[2].w];
+            let sum = m[0] + m[1] + m[2];
+            let x = (region.pos[t[0] as usize] * m[0]
+                + region.pos[t[1] as usize] * m[1]
+                + region.pos[t[2] as usize] * m[2])
+                / sum;
+            (z, x)
+        }
+    }
+}
+
+/// Cuttable faces incident to an element, ascending.
+pub(crate) fn elem_faces(region: &Region, e: Elem, out: &mut Vec<u32>) {
+    out.clear();
+    match e {
+        Elem::V(v) => out.extend(
+            region
+                .vertex_faces(v)
+                .iter()
+                .copied()
+                .filter(|&f| region.cuttable[f as usize]),
+        ),
+        Elem::E { edge, .. } => {
+            let mut ef: Vec<u32> = region.edge_faces[edge as usize]
+                .iter()
+                .copied()
+                .filter(|&f| f != NONE && region.cuttable[f as usize])
+                .collect();
+            ef.sort_unstable();
+            out.extend(ef);
+        }
+        Elem::P { face, .. } => out.push(face),
+    }
+}
+
+/// A chain: occurrences in stroke order (one sheet).
+#[derive(Debug, Clone)]
+pub(crate) struct Chain {
+    pub occ: Vec<u32>,
+}
+
+/// Visits of one piece (polyline indices `j0..=j1`) linked into chains.
+pub(crate) fn chains(
+    region: &Region,
+    line: &Polyline,
+    occ: &[Occ],
+    j0: u32,
+    j1: u32,
+) -> Vec<Chain> {
+    let lo = occ.partition_point(|o| key_cmp(o.key, (j0, 0.0)).is_lt());
+    let hi = occ.partition_point(|o| key_cmp(o.key, (j1, 0.0)).is_le());
+    let mut entries: Vec<(u32, u32)> = Vec::new();
+    let mut faces = Vec::new();
+    for (i, o) in occ.iter().enumerate().take(hi).skip(lo) {
+        elem_faces(region, o.elem, &mut faces);
+        entries.extend(faces.iter().map(|&f| (f, i as u32)));
+    }
+    entries.sort_unstable();
+    let mut links: Vec<(u32, u32)> = Vec::new();
+    for w in entries.windows(2) {
+        let ((fx, x), (fy, y)) = (w[0], w[1]);
+        if fx != fy {
+            continue;
+        }
+        let (ox, oy) = (&occ[x as usize], &occ[y as usize]);
+        // A visit needs stroke between its ends: two elements at one stroke position (a
+        // moved end and another sheet's) are not joined.
+        if !(ox.visible && oy.visible) || ox.elem == oy.elem || key_cmp(ox.key, oy.key).is_eq() {
+            continue;
+        }
+        let j = ox.key.0 + 1;
+        let between = j < oy.key.0 || (j == oy.key.0 && oy.key.1 > 0.0);
+        let linked = if !between {
+            // Same segment: the chord lies in the (convex) face, or along one of its edges.
+            true
+        } else {
+            let [a, b, c] = region.face_screen(fx);
+            in_triangle(a, b, c, region.sign[fx as usize], line.pts[j as usize]) == Some(true)
+        };
+        if linked {
+            links.push((x, y));
+        }
+    }
+    links.sort_unstable();
+    links.dedup();
+    let n = hi - lo;
+    let mut out_deg = vec![0u32; n];
+    let mut in_deg = vec![0u32; n];
+    for &(x, y) in &links {
+        out_deg[x as usize - lo] += 1;
+        in_deg[y as usize - lo] += 1;
+    }
+    let through = |x: u32| in_deg[x as usize - lo] == 1 && out_deg[x as usize - lo] == 1;
+    let mut used = vec![false; links.len()];
+    let mut result = Vec::new();
+    for start in 0..links.len() {
+        if used[start] || through(links[start].0) {
+            continue;
+        }
+        let mut chain = vec![links[start].0];
+        let mut l = start;
+        loop {
+            used[l] = true;
+            let y = links[l].1;
+            chain.push(y);
+            if !through(y) {
+                break;
+            }
+            l = links.partition_point(|&(a, _)| a < y);
+            if used[l] {
+                break;
+            }
+        }
+        result.push(Chain { occ: chain });
+    }
+    result
+}

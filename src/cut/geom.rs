@@ -1,0 +1,60 @@
+//! Screen-space predicates (spec §5): every side and crossing decision is Shewchuk's adaptive
+//! exact `orient2d` (`robust` crate); constructions are plain f64 and never re-decide.
+
+use glam::{DVec2, DVec3};
+use robust::{orient2d, Coord};
+
+/// Twice the signed area of abc: > 0 when a, b, c turn counter-clockwise in a y-up frame
+/// (clockwise on the y-down screen), exact in sign.
+#[inline]
+pub(crate) fn orient(a: DVec2, b: DVec2, c: DVec2) -> f64 {
+    orient2d(
+        Coord { x: a.x, y: a.y },
+        Coord { x: b.x, y: b.y },
+        Coord { x: c.x, y: c.y },
+    )
+}
+
+/// For p collinear with ab (checked by the caller): whether p lies on the closed segment ab.
+/// Exact: compares coordinates only.
+#[inline]
+pub(crate) fn on_segment(a: DVec2, b: DVec2, p: DVec2) -> bool {
+    p.x >= a.x.min(b.x) && p.x <= a.x.max(b.x) && p.y >= a.y.min(b.y) && p.y <= a.y.max(b.y)
+}
+
+/// Where p lies against triangle abc of orientation sign `sign` (±1): `Some(true)` strictly
+/// inside, `Some(false)` on its boundary, `None` outside.
+#[inline]
+pub(crate) fn in_triangle(a: DVec2, b: DVec2, c: DVec2, sign: f64, p: DVec2) -> Option<bool> {
+    let o = [orient(a, b, p), orient(b, c, p), orient(c, a, p)];
+    if o.iter().any(|&x| x * sign < 0.0) {
+        None
+    } else {
+        Some(o.iter().all(|&x| x != 0.0))
+    }
+}
+
+/// Screen barycentric coordinates of p in abc (constructed, f64).
+pub(crate) fn barycentric(a: DVec2, b: DVec2, c: DVec2, p: DVec2) -> [f64; 3] {
+    let area = (b - a).perp_dot(c - a);
+    if area == 0.0 {
+        return [1.0 / 3.0; 3];
+    }
+    let la = (b - p).perp_dot(c - p) / area;
+    let lb = (c - p).perp_dot(a - p) / area;
+    [la, lb, 1.0 - la - lb]
+}
+
+/// The smallest corner angle of triangle abc in 3D, radians (0 for a degenerate one).
+pub(crate) fn min_angle(a: DVec3, b: DVec3, c: DVec3) -> f64 {
+    let ang = |p: DVec3, q: DVec3, r: DVec3| {
+        let (u, v) = (q - p, r - p);
+        let d = u.length() * v.length();
+        if d == 0.0 {
+            0.0
+        } else {
+            (u.dot(v) / d).clamp(-1.0, 1.0).acos()
+        }
+    };
+    ang(a, b, c).min(ang(b, c, a)).min(ang(c, a, b))
+}

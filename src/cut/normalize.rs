@@ -1,0 +1,188 @@
+//! Second normalization (seed 002 §3.3, Fig. 9; spec §4 step 6): no triangle is crossed
+//! twice. For each face t in ascending id, the elements of A strictly between the first and
+//! the last element belonging to t are removed; repeated to a fixed point (gap-fill: one
+//! pass can leave violations created by later removals; it terminates because A shrinks).
+//! Before it, spec §4 step 5's clean-up: consecutive duplicates (E_i, E_i), (V_j, V_j)
+//! collapse, and a crossing of an edge next to one of that edge's own end vertices is dropped.
+
+use super::crossings::{elem_faces, Elem, Occ};
+use super::region::{Region, NONE};
+
+/// A normalized element array: consecutive elements share `faces[k]` (`NONE` when they are
+/// the two ends of one edge, or on one edge: the path runs along it).
+#[derive(Debug, Clone)]
+pub(crate) struct Normalized {
+    pub occ: Vec<u32>,
+    pub faces: Vec<u32>,
+}
+
+fn same_class(x: Elem, y: Elem) -> bool {
+    match (x, y) {
+        (Elem::V(a), Elem::V(b)) => a == b,
+        (Elem::E { edge: a, .. }, Elem::E { edge: b, .. }) => a == b,
+        (a, b) => a == b,
+    }
+}
+
+/// Spec §4 step 5's clean-up. The chain's first and last elements are its ends (a piece
+/// end, or where it enters or leaves the cuttable faces) and are kept, so pieces still
+/// meet at their shared corners: a run of one class keeps its first element, or its last
+/// when the run ends the chain.
+fn collapse(region: &Region, occ: &[Occ], a: &mut Vec<u32>) {
+    let n = a.len();
+    let class = |k: usize| occ[a[k] as usize].elem;
+    let mut keep = vec![true; n];
+    let mut k = 0;
+    while k < n {
+        let mut j = k + 1;
+        while j < n && same_class(class(k), class(j)) {
+            j += 1;
+        }
+        // Run k..j: keep its first, and its last if it is the chain's end.
+        for (i, kept) in keep.iter_mut().enumerate().take(j).skip(k + 1) {
+            *kept = i == n - 1;
+        }
+        k = j;
+    }
+    let ends_of = |e: u32, v: u32| region.edges[e as usize].contains(&v);
+    let idx: Vec<usize> = (0..n).filter(|&i| keep[i]).collect();
+    for (p, &i) in idx.iter().enumerate() {
+        if i == 0 || i == n - 1 {
+            continue;
+        }
+        if let Elem::E { edge, .. } = class(i) {
+            let near_end = |q: usize| matches!(class(q), Elem::V(v) if ends_of(edge, v));
+            if (p > 0 && near_end(idx[p - 1])) || (p + 1 < idx.len() && near_end(idx[p + 1])) {
+                keep[i] = false;
+            }
+        }
+    }
+    let mut k = 0;
+    a.retain(|_| {
+        k += 1;
+        keep[k - 1]
+    });
+}
+
+/// Fig. 9 over the faces of A in ascending order, repeated until a pass removes nothing.
+/// Each face keeps the positions of its elements; removals unlink a linked list, so
+/// a pass costs O(|A| + Σ elements per face) instead of a scan of A per face.
+/// Returns whether anything was removed.
+fn fig9(region: &Region, occ: &[Occ], a: &mut Vec<u32>) -> bool {
+    let n = a.len();
+    let mut entries: Vec<(u32, u32)> = Vec::new();
+    let mut scratch = Vec::new();
+    for (k, &o) in a.iter().enumerate() {
+        elem_faces(region, occ[o as usize].elem, &mut scratch);
+        entries.extend(scratch.iter().map(|&f| (f, k as u32)));
+    }
+    entries.sort_unstable();
+    let mut alive = vec![true; n];
+    let mut next: Vec<usize> = (1..=n).collect();
+    let mut removed_any = false;
+    loop {
+        let mut removed = false;
+        let mut i0 = 0;
+        while i0 < entries.len() {
+            let t = entries[i0].0;
+            let mut i1 = i0;
+            while i1 < entries.len() && entries[i1].0 == t {
+                i1 += 1;
+            }
+            let group = &entries[i0..i1];
+            let first = group
+                .iter()
+                .find(|e| alive[e.1 as usize])
+                .map(|e| e.1 as usize);
+            let last = group
+                .iter()
+                .rev()
+                .find(|e| alive[e.1 as usize])
+                .map(|e| e.1 as usize);
+            if let (Some(i), Some(j)) = (first, last) {
+                if next[i] < j {
+                    let mut k = next[i];
+                    while k < j {
+                        alive[k] = false;
+                        k = next[k];
+                    }
+                    next[i] = j;
+                    removed = true;
+                }
+            }
+            i0 = i1;
+        }
+        if !removed {
+            break;
+        }
+        removed_any = true;
+    }
+    if removed_any {
+        let mut k = 0;
+        a.retain(|_| {
+            k += 1;
+            alive[k - 1]
+        });
+    }
+    removed_any
+}
+
+/// Normalizes one chain; a pair left without a common cuttable face splits it.
+pub(crate) fn normalize(region: &Region, occ: &[Occ], chain: &[u32]) -> Vec<Normalized> {
+    let mut a = chain.to_vec();
+    loop {
+        collapse(region, occ, &mut a);
+        if !fig9(region, occ, &mut a) {
+            let before = a.len();
+            collapse(region, occ, &mut a);
+            if a.len() == before {
+                break;
+            }
+        }
+    }
+    let mut out = Vec::new();
+    let mut cur = Normalized {
+        occ: Vec::new(),
+        faces: Vec::new(),
+    };
+    let (mut fx, mut fy) = (Vec::new(), Vec::new());
+    for (k, &o) in a.iter().enumerate() {
+        if k > 0 {
+            let prev = a[k - 1];
+            let (x, y) = (occ[prev as usize].elem, occ[o as usize].elem);
+            elem_faces(region, x, &mut fx);
+            elem_faces(region, y, &mut fy);
+            let common = fx.iter().copied().find(|f| fy.contains(f));
+            let along = match (x, y) {
+                (Elem::V(u), Elem::V(w)) => region
+                    .vertex_faces(u)
+                    .iter()
+                    .any(|&f| region.tri[f as usize].contains(&w)),
+                _ => false,
+            };
+            match (common, along) {
+                (_, true) => cur.faces.push(NONE),
+                (Some(f), false) => cur.faces.push(f),
+                (None, false) => {
+                    if cur.occ.len() >= 2 {
+                        out.push(std::mem::replace(
+                            &mut cur,
+                            Normalized {
+                                occ: Vec::new(),
+                                faces: Vec::new(),
+                            },
+                        ));
+                    } else {
+                        cur.occ.clear();
+                        cur.faces.clear();
+                    }
+                }
+            }
+        }
+        cur.occ.push(o);
+    }
+    if cur.occ.len() >= 2 {
+        out.push(cur);
+    }
+    out
+}

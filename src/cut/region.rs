@@ -1,0 +1,280 @@
+//! The cut region: candidate faces with local vertex ids, local edge adjacency (sorted
+//! vectors, no hashing), the local manifold check, and L.
+//!
+//! Only the faces within the snap margin of the stroke are ever looked at after the two
+//! streaming passes ([`super::candidates`]). Every vertex within the margin has all its faces
+//! among them ("complete"), and so has every edge the stroke crosses, so the local adjacency
+//! is exact wherever the cut acts; faces straddling the eye plane are kept too, so an edge
+//! they share with a cut face is split on both sides.
+
+use glam::{DVec2, DVec3};
+
+use super::candidates::{point_segment_distance, CellGrid};
+use super::geom::orient;
+use super::options::CutMode;
+use super::view::{Projector, Seen};
+use crate::error::{Error, Result};
+use crate::mesh::PolyMesh;
+
+pub(crate) const NONE: u32 = u32::MAX;
+
+/// Local data of the candidate faces. `lf` indexes faces, `lv` vertices, `le` edges.
+#[derive(Debug, Clone)]
+pub(crate) struct Region {
+    /// Triangle ids (in the triangulated input), ascending.
+    pub faces: Vec<u32>,
+    /// Corners of each face, local vertex ids.
+    pub tri: Vec<[u32; 3]>,
+    /// Global vertex ids, ascending.
+    pub verts: Vec<u32>,
+    pub pos: Vec<DVec3>,
+    /// `None` behind the eye.
+    pub seen: Vec<Option<Seen>>,
+    /// Whether every face around the vertex is in the region (it is within the margin).
+    pub complete: Vec<bool>,
+    /// Local edge of corner i → i+1 of each face.
+    pub face_edges: Vec<[u32; 3]>,
+    /// Endpoints of each local edge (ascending local ids).
+    pub edges: Vec<[u32; 2]>,
+    /// The one or two candidate faces of each edge (`NONE` for a missing second).
+    pub edge_faces: Vec<[u32; 2]>,
+    /// CSR vertex → faces.
+    vf_start: Vec<u32>,
+    vf_list: Vec<u32>,
+    /// Screen orientation sign of each face (−1, 0, +1); 0 for degenerate or clipped.
+    pub sign: Vec<f64>,
+    /// Faces the cut may split: projectable, non-degenerate, front-facing in visible-only.
+    pub cuttable: Vec<bool>,
+    /// Faces degenerate on screen or in space.
+    pub degenerate: Vec<bool>,
+    /// Faces the stroke meets (exact).
+    pub meets: Vec<bool>,
+}
+
+impl Region {
+    /// `kept`: (triangle, whether the stroke meets it), ascending; `margin`: the distance
+    /// within which [`super::candidates::refine`] kept every face.
+    pub fn build(
+        mesh: &PolyMesh,
+        kept: &[(u32, bool)],
+        grid: &CellGrid,
+        segments: &[(DVec2, DVec2)],
+        margin: f64,
+        proj: &Projector,
+        mode: CutMode,
+    ) -> Result<Region> {
+        let faces: Vec<u32> = kept.iter().map(|k| k.0).collect();
+        let meets: Vec<bool> = kept.iter().map(|k| k.1).collect();
+        let corners = mesh.corners();
+        let mut verts: Vec<u32> = faces
+            .iter()
+            .flat_map(|&f| (0..3).map(move |i| corners[3 * f as usize + i].0))
+            .collect();
+        verts.sort_unstable();
+        verts.dedup();
+        let local = |g: u32| verts.binary_search(&g).expect("a candidate's vertex") as u32;
+        let tri: Vec<[u32; 3]> = faces
+            .iter()
+            .map(|&f| {
+                let t = &corners[3 * f as usize..3 * f as usize + 3];
+                [local(t[0].0), local(t[1].0), local(t[2].0)]
+            })
+            .collect();
+        let pos: Vec<DVec3> = verts
+            .iter()
+            .map(|&g| mesh.positions()[g as usize])
+            .collect();
+        let seen: Vec<Option<Seen>> = pos.iter().map(|&p| proj.see(p)).collect();
+        // Within the margin of the stroke: every face around is kept.
+        let complete: Vec<bool> = seen
+            .iter()
+            .map(|s| {
+                let Some(s) = s else { return false };
+                grid.range(s.screen, s.screen)
+                    .is_some_and(|(cx, cy, _, _)| {
+                        grid.segments_at(cx, cy).iter().any(|&k| {
+                            let (a, b) = segments[k as usize];
+                            point_segment_distance(s.screen, a, b) <= margin
+                        })
+                    })
+            })
+            .collect();
+
+        // Edges: sort the directed corner edges by (min, max) and then by face and corner
+        // (packed keys: the sort is most of this function).
+        let mut he: Vec<(u64, u32)> = Vec::with_capacity(3 * tri.len());
+        for (lf, t) in tri.iter().enumerate() {
+            for i in 0..3 {
+                let (a, b) = (t[i], t[(i + 1) % 3]);
+                he.push((
+                    (a.min(b) as u64) << 32 | a.max(b) as u64,
+                    3 * lf as u32 + i as u32,
+                ));
+            }
+        }
+        he.sort_unstable();
+        let mut face_edges = vec![[NONE; 3]; tri.len()];
+        let mut edges = Vec::new();
+        let mut edge_faces = Vec::new();
+        let mut i = 0;
+        while i < he.len() {
+            let mut j = i + 1;
+            while j < he.len() && he[j].0 == he[i].0 {
+                j += 1;
+            }
+            let (a, b) = ((he[i].0 >> 32) as u32, he[i].0 as u32);
+            let (ga, gb) = (verts[a as usize], verts[b as usize]);
+            if j - i > 2 {
+                return Err(Error::NonManifoldEdge {
+                    a: ga,
+                    b: gb,
+                    uses: (j - i) as u32,
+                });
+            }
+            let corner = |k: usize| ((he[k].1 / 3) as usize, (he[k].1 % 3) as usize);
+            if j - i == 2 {
+                let from = |k: usize| {
+                    let (f, c) = corner(k);
+                    tri[f][c]
+                };
+                if from(i) == from(i + 1) {
+                    let (fa, fb) = if from(i) == a { (ga, gb) } else { (gb, ga) };
+                    return Err(Error::InconsistentOrientation { a: fa, b: fb });
+                }
+            }
+            let e = edges.len() as u32;
+            edges.push([a, b]);
+            let mut ef = [NONE; 2];
+            for k in i..j {
+                let (f, c) = corner(k);
+                face_edges[f][c] = e;
+                ef[k - i] = f as u32;
+            }
+            edge_faces.push(ef);
+            i = j;
+        }
+
+        // Vertex → faces (CSR, faces ascending within each vertex).
+        let nv = verts.len();
+        let mut vf_start = vec![0u32; nv + 1];
+        for t in &tri {
+            for &v in t {
+                vf_start[v as usize + 1] += 1;
+            }
+        }
+        for k in 0..nv {
+            vf_start[k + 1] += vf_start[k];
+        }
+        let mut fill = vf_start.clone();
+        let mut vf_list = vec![0u32; vf_start[nv] as usize];
+        for (lf, t) in tri.iter().enumerate() {
+            for &v in t {
+                vf_list[fill[v as usize] as usize] = lf as u32;
+                fill[v as usize] += 1;
+            }
+        }
+
+        let mut sign = vec![0.0; tri.len()];
+        let mut cuttable = vec![false; tri.len()];
+        let mut degenerate = vec![false; tri.len()];
+        for (lf, t) in tri.iter().enumerate() {
+            let s = [
+                seen[t[0] as usize],
+                seen[t[1] as usize],
+                seen[t[2] as usize],
+            ];
+            let (Some(a), Some(b), Some(c)) = (s[0], s[1], s[2]) else {
+                continue;
+            };
+            let o = orient(a.screen, b.screen, c.screen);
+            let p = [pos[t[0] as usize], pos[t[1] as usize], pos[t[2] as usize]];
+            let area = (p[1] - p[0]).cross(p[2] - p[0]).length();
+            if o == 0.0 || area == 0.0 {
+                degenerate[lf] = true;
+                continue;
+            }
+            sign[lf] = o.signum();
+            // Front-facing = counter-clockwise in y-up NDC = negative orient on the y-down screen.
+            cuttable[lf] = match mode {
+                CutMode::ThroughAll => true,
+                CutMode::VisibleOnly => o < 0.0,
+            };
+        }
+        Ok(Region {
+            faces,
+            tri,
+            verts,
+            pos,
+            seen,
+            complete,
+            face_edges,
+            edges,
+            edge_faces,
+            vf_start,
+            vf_list,
+            sign,
+            cuttable,
+            degenerate,
+            meets,
+        })
+    }
+
+    /// Faces around local vertex `v`, ascending.
+    #[inline]
+    pub fn vertex_faces(&self, v: u32) -> &[u32] {
+        &self.vf_list[self.vf_start[v as usize] as usize..self.vf_start[v as usize + 1] as usize]
+    }
+
+    /// Screen position of a projectable local vertex.
+    #[inline]
+    pub fn screen(&self, v: u32) -> DVec2 {
+        self.seen[v as usize].expect("a projectable vertex").screen
+    }
+
+    /// Screen corners of a projectable face.
+    #[inline]
+    pub fn face_screen(&self, lf: u32) -> [DVec2; 3] {
+        self.tri[lf as usize].map(|v| self.screen(v))
+    }
+
+    /// Whether a face's corners are all in front of the eye.
+    #[inline]
+    pub fn projectable(&self, lf: u32) -> bool {
+        self.tri[lf as usize]
+            .iter()
+            .all(|&v| self.seen[v as usize].is_some())
+    }
+
+    /// L: the mean screen (and world) length of the edges of projectable, non-degenerate
+    /// faces that the stroke meets (gap-fill for seed 002 §3.2's "mean edge length", spec §4).
+    /// Also returns those faces' degenerate neighbours met by the stroke, for the report.
+    pub fn mean_edge_length(&self) -> (f64, f64, Vec<u32>) {
+        let mut edge_used = vec![false; self.edges.len()];
+        let (mut sum_px, mut sum_w, mut n) = (0.0, 0.0, 0u64);
+        let mut degenerate_met = Vec::new();
+        for lf in 0..self.tri.len() as u32 {
+            if !self.meets[lf as usize] || !self.projectable(lf) {
+                continue;
+            }
+            if self.degenerate[lf as usize] {
+                degenerate_met.push(lf);
+                continue;
+            }
+            for i in 0..3 {
+                let e = self.face_edges[lf as usize][i];
+                if !edge_used[e as usize] {
+                    edge_used[e as usize] = true;
+                    let [u, v] = self.edges[e as usize];
+                    sum_px += (self.screen(u) - self.screen(v)).length();
+                    sum_w += (self.pos[u as usize] - self.pos[v as usize]).length();
+                    n += 1;
+                }
+            }
+        }
+        if n == 0 {
+            (0.0, 0.0, degenerate_met)
+        } else {
+            (sum_px / n as f64, sum_w / n as f64, degenerate_met)
+        }
+    }
+}

@@ -1,0 +1,242 @@
+//! Moving model vertices onto the stroke (seed 002 §3.2, Fig. 4; Biermann et al. 2001):
+//! first to stroke vertices, then onto stroke segments, each within a ratio of L, parallel to
+//! the screen. A snapped vertex sits exactly on a stroke point (a segment snap inserts one),
+//! so later predicates see it on the stroke without tolerance.
+
+use glam::{DVec2, DVec3};
+
+use super::candidates::CellGrid;
+use super::geom::orient;
+use super::options::CutOptions;
+use super::region::Region;
+use super::stroke::Prepared;
+use super::view::Projector;
+
+/// The stroke after snapping, as a polyline of points.
+#[derive(Debug, Clone)]
+pub(crate) struct Polyline {
+    pub pts: Vec<DVec2>,
+    /// The prepared point each point is (`None` for a point inserted at a segment snap).
+    pub src: Vec<Option<u32>>,
+    /// Whether a model vertex was snapped onto the point.
+    pub on_vertex: Vec<bool>,
+}
+
+pub(crate) struct Snapped {
+    pub line: Polyline,
+    /// The polyline segments `a..b` making up each prepared segment.
+    pub seg_range: Vec<(u32, u32)>,
+    /// The polyline index of each prepared point.
+    pub start_of: Vec<u32>,
+    /// (local vertex, from, to, pixels), in snapping order.
+    pub moves: Vec<(u32, DVec3, DVec3, f64)>,
+    /// Local vertices within reach whose move the fold-over guard refused.
+    pub refused: Vec<u32>,
+}
+
+/// Steps 2 and 3 of spec §4. `allowed[v]`: the vertex may move (complete, projectable, and in
+/// visible-only mode front-facing all round and seen).
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn snap(
+    region: &mut Region,
+    allowed: &[bool],
+    prep: &Prepared,
+    segments: &[(DVec2, DVec2)],
+    grid: &CellGrid,
+    l: f64,
+    options: &CutOptions,
+    proj: &Projector,
+) -> Snapped {
+    let n = prep.points.len();
+    let rv = options.snap_vertex_ratio * l;
+    let rs = options.snap_segment_ratio * l;
+    let min_area2 = 2e-12 * l * l;
+    let mut taken = vec![false; n];
+    let mut snapped = vec![false; region.verts.len()];
+    let mut moves = Vec::new();
+    let mut refused_any = vec![false; region.verts.len()];
+
+    // Nearby segments of a screen point, from its grid cell (the margin covers max(rv, rs)).
+    let near = |s: DVec2| -> &[u32] {
+        match grid.range(s, s) {
+            Some((cx, cy, _, _)) => grid.segments_at(cx, cy),
+            None => &[],
+        }
+    };
+
+    // Step 2: to stroke vertices; each stroke vertex takes its nearest model vertex.
+    let mut pairs: Vec<(f64, u32, u32)> = Vec::new();
+    if rv > 0.0 {
+        for v in 0..region.verts.len() as u32 {
+            if !allowed[v as usize] {
+                continue;
+            }
+            let s = region.screen(v);
+            let mut best: Option<(f64, u32)> = None;
+            for &si in near(s) {
+                for k in [si as usize, (si as usize + 1) % n] {
+                    let d = (prep.points[k] - s).length();
+                    if d < rv && best.map_or(true, |(bd, bk)| (d, k as u32) < (bd, bk)) {
+                        best = Some((d, k as u32));
+                    }
+                }
+            }
+            if let Some((d, k)) = best {
+                pairs.push((d, v, k));
+            }
+        }
+    }
+    pairs.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+    for &(_, v, k) in &pairs {
+        if taken[k as usize] || snapped[v as usize] {
+            continue;
+        }
+        let q = prep.points[k as usize];
+        if guard(region, v, q, min_area2) {
+            moves.push(apply(region, proj, v, q));
+            snapped[v as usize] = true;
+            taken[k as usize] = true;
+        } else {
+            refused_any[v as usize] = true;
+        }
+    }
+
+    // Step 3: onto stroke segments; each snap inserts a stroke point at the foot.
+    let mut feet: Vec<(f64, u32, u32, f64, DVec2)> = Vec::new(); // (dist, v, seg, t, q)
+    if rs > 0.0 {
+        for v in 0..region.verts.len() as u32 {
+            if !allowed[v as usize] || snapped[v as usize] {
+                continue;
+            }
+            let s = region.screen(v);
+            let mut best: Option<(f64, u32, f64, DVec2)> = None;
+            for &si in near(s) {
+                let (a, b) = segments[si as usize];
+                let ab = b - a;
+                let t = ((s - a).dot(ab) / ab.length_squared()).clamp(0.0, 1.0);
+                let q = if t == 0.0 {
+                    a
+                } else if t == 1.0 {
+                    b
+                } else {
+                    a + ab * t
+                };
+                let d = (q - s).length();
+                if d < rs && best.map_or(true, |(bd, bs, ..)| (d, si) < (bd, bs)) {
+                    best = Some((d, si, t, q));
+                }
+            }
+            if let Some((d, si, t, q)) = best {
+                feet.push((d, v, si, t, q));
+            }
+        }
+    }
+    feet.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+    let mut inserted: Vec<(u32, f64, DVec2)> = Vec::new();
+    for &(_, v, si, t, q) in &feet {
+        if guard(region, v, q, min_area2) {
+            moves.push(apply(region, proj, v, q));
+            snapped[v as usize] = true;
+            refused_any[v as usize] = false;
+            if t > 0.0 && t < 1.0 {
+                inserted.push((si, t, q));
+            }
+        } else {
+            refused_any[v as usize] = true;
+        }
+    }
+    inserted.sort_by(|a, b| a.0.cmp(&b.0).then(a.1.total_cmp(&b.1)));
+    inserted.dedup_by(|a, b| a.0 == b.0 && a.2 == b.2);
+
+    // The snapped polyline: prepared points with the feet inserted in segment order. A closed
+    // stroke starts at its first corner, else at a stroke vertex holding a model vertex, so
+    // its closing point costs no interior vertex when it can (gap-fill).
+    let k0 = if !prep.closed {
+        0
+    } else if let Some(&c) = prep.corners.first() {
+        c
+    } else {
+        (0..n).find(|&k| taken[k]).unwrap_or(0)
+    };
+    let mut line = Polyline {
+        pts: Vec::with_capacity(n + inserted.len() + 1),
+        src: Vec::new(),
+        on_vertex: Vec::new(),
+    };
+    let mut start_of = vec![0u32; n];
+    let segs = prep.segment_count();
+    for i in 0..n {
+        let k = (k0 + i) % n;
+        start_of[k] = line.pts.len() as u32;
+        line.pts.push(prep.points[k]);
+        line.src.push(Some(k as u32));
+        line.on_vertex.push(taken[k]);
+        if k >= segs {
+            continue;
+        }
+        let lo = inserted.partition_point(|x| (x.0 as usize) < k);
+        let hi = inserted.partition_point(|x| (x.0 as usize) <= k);
+        for &(_, _, q) in &inserted[lo..hi] {
+            // A foot equal to the segment's end point is that point.
+            if q != prep.points[k] && q != prep.points[(k + 1) % n] {
+                line.pts.push(q);
+                line.src.push(None);
+                line.on_vertex.push(true);
+            }
+        }
+    }
+    if prep.closed {
+        line.pts.push(prep.points[k0]);
+        line.src.push(Some(k0 as u32));
+        line.on_vertex.push(taken[k0]);
+    }
+    let last = line.pts.len() as u32 - 1;
+    let seg_range = (0..segs)
+        .map(|k| {
+            let next = (k + 1) % n;
+            let end = if prep.closed && next == k0 {
+                last
+            } else {
+                start_of[next]
+            };
+            (start_of[k], end)
+        })
+        .collect();
+    let refused = (0..region.verts.len() as u32)
+        .filter(|&v| refused_any[v as usize] && !snapped[v as usize])
+        .collect();
+    Snapped {
+        line,
+        seg_range,
+        start_of,
+        moves,
+        refused,
+    }
+}
+
+/// Fold-over guard (spec §4 step 2, gap-fill): moving `v` to `q` keeps every non-degenerate
+/// face around it turning the same way, with area at least 1e-12·L².
+fn guard(region: &Region, v: u32, q: DVec2, min_area2: f64) -> bool {
+    region.vertex_faces(v).iter().all(|&lf| {
+        let sign = region.sign[lf as usize];
+        if sign == 0.0 {
+            return true;
+        }
+        let t = region.tri[lf as usize];
+        let p = t.map(|x| if x == v { q } else { region.screen(x) });
+        let o = orient(p[0], p[1], p[2]);
+        o * sign > 0.0 && o.abs() >= min_area2
+    })
+}
+
+fn apply(region: &mut Region, proj: &Projector, v: u32, q: DVec2) -> (u32, DVec3, DVec3, f64) {
+    let seen = region.seen[v as usize]
+        .as_mut()
+        .expect("a projectable vertex");
+    let from = region.pos[v as usize];
+    let px = (q - seen.screen).length();
+    let to = proj.unproject(q, seen.w, seen.z);
+    seen.screen = q;
+    region.pos[v as usize] = to;
+    (v, from, to, px)
+}

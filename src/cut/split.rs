@@ -1,0 +1,427 @@
+//! The split patterns (seed 002 §3.3-3.4, Figs. 7, 13; spec §4 step 7), as two local
+//! operations on each face's small list of sub-triangles:
+//! - a vertex on an edge splits each sub-triangle holding that edge in two, joining the new
+//!   vertex to the opposite corner; the face across gets the same vertex (created once per
+//!   edge), so no T-junction remains (spec's T-junction rule). With a path vertex at the
+//!   opposite corner this is P1 (vertex + edge, 1 → 2); two edge vertices in one face give
+//!   P2 (edge + edge, 1 → 3) with the new chord already an edge;
+//! - a piece end strictly inside a face splits its sub-triangle in three (P3, Fig. 13(c)).
+//!
+//! P2's quadrilateral is then split along the diagonal that maximises the smallest angle
+//! (gap-fill, spec §4 step 7) by flipping non-path diagonals. A chord that the insertions did
+//! not make an edge (several pieces in one face) is recovered by flips inside the face.
+
+use std::collections::BTreeMap;
+
+use glam::{DVec2, DVec3};
+
+use super::crossings::{elem_depth, Elem, Occ};
+use super::geom::{in_triangle, min_angle, orient};
+use super::region::{Region, NONE};
+
+pub(crate) struct Splitter<'r> {
+    pub r: &'r Region,
+    /// New vertices (local ids from `r.verts.len()` on).
+    pub new_pos: Vec<DVec3>,
+    pub new_screen: Vec<DVec2>,
+    /// Sub-triangles of each touched face.
+    pub subs: Vec<Option<Vec<[u32; 3]>>>,
+    /// Touched faces in order of first touch.
+    pub touched: Vec<u32>,
+    /// Vertices on each local edge, by screen parameter from its first to its second end.
+    edge_vertices: Vec<Vec<(f64, u32)>>,
+    /// The vertex of each E or P element already placed.
+    placed: BTreeMap<Elem, u32>,
+    /// Screen distance under which a constructed point is an existing vertex (1e-9·L).
+    eps_px: f64,
+}
+
+impl<'r> Splitter<'r> {
+    pub fn new(r: &'r Region, l_px: f64) -> Self {
+        Splitter {
+            r,
+            new_pos: Vec::new(),
+            new_screen: Vec::new(),
+            subs: vec![None; r.tri.len()],
+            touched: Vec::new(),
+            edge_vertices: vec![Vec::new(); r.edges.len()],
+            placed: BTreeMap::new(),
+            eps_px: 1e-9 * l_px.max(1.0),
+        }
+    }
+
+    fn n0(&self) -> u32 {
+        self.r.verts.len() as u32
+    }
+
+    pub fn screen(&self, v: u32) -> DVec2 {
+        if v < self.n0() {
+            self.r.screen(v)
+        } else {
+            self.new_screen[(v - self.n0()) as usize]
+        }
+    }
+
+    pub fn pos(&self, v: u32) -> DVec3 {
+        if v < self.n0() {
+            self.r.pos[v as usize]
+        } else {
+            self.new_pos[(v - self.n0()) as usize]
+        }
+    }
+
+    fn add_vertex(&mut self, p: DVec3, s: DVec2) -> u32 {
+        self.new_pos.push(p);
+        self.new_screen.push(s);
+        self.n0() + self.new_pos.len() as u32 - 1
+    }
+
+    /// A new vertex at the same place as `v` (opening).
+    pub fn copy_vertex(&mut self, v: u32) -> u32 {
+        let (p, s) = (self.pos(v), self.screen_or_zero(v));
+        self.add_vertex(p, s)
+    }
+
+    fn screen_or_zero(&self, v: u32) -> DVec2 {
+        if v < self.n0() {
+            self.r.seen[v as usize].map_or(DVec2::ZERO, |s| s.screen)
+        } else {
+            self.new_screen[(v - self.n0()) as usize]
+        }
+    }
+
+    /// Replaces corner `v` of sub-triangle `i` of face `lf` by `by`.
+    pub fn replace_corner(&mut self, lf: u32, i: usize, v: u32, by: u32) {
+        let t = &mut self.subs_mut(lf)[i];
+        for c in t.iter_mut() {
+            if *c == v {
+                *c = by;
+            }
+        }
+    }
+
+    fn subs_mut(&mut self, lf: u32) -> &mut Vec<[u32; 3]> {
+        if self.subs[lf as usize].is_none() {
+            self.subs[lf as usize] = Some(vec![self.r.tri[lf as usize]]);
+            self.touched.push(lf);
+        }
+        self.subs[lf as usize].as_mut().expect("just set")
+    }
+
+    /// The current sub-triangles of a face (its triangle when untouched).
+    pub fn face_subs(&self, lf: u32) -> Vec<[u32; 3]> {
+        match &self.subs[lf as usize] {
+            Some(s) => s.clone(),
+            None => vec![self.r.tri[lf as usize]],
+        }
+    }
+
+    /// The path vertex of an element, creating and inserting it on first use. Crossings of
+    /// one edge by different chains get their own vertices (a chain crosses an edge once
+    /// after normalization); one crossing shared by chains gets one.
+    pub fn vertex_for(&mut self, o: &Occ) -> u32 {
+        if let Elem::V(v) = o.elem {
+            return v;
+        }
+        if let Some(&m) = self.placed.get(&o.elem) {
+            return m;
+        }
+        // Spec §4 step 5: the 3D point is the perspective-correct interpolation.
+        let (_, x) = elem_depth(self.r, o);
+        let near = |sp: &Self, v: u32| (sp.screen(v) - o.screen).length() <= sp.eps_px;
+        let m = match o.elem {
+            Elem::E { edge, .. } => {
+                // Spec §4 step 5: a crossing a rounding error from an end hits that vertex;
+                // two crossings a rounding error apart are one.
+                let [a, b] = self.r.edges[edge as usize];
+                let list = &self.edge_vertices[edge as usize];
+                let existing = [a, b]
+                    .into_iter()
+                    .chain(list.iter().map(|x| x.1))
+                    .find(|&v| near(self, v));
+                match existing {
+                    Some(m) => m,
+                    None => {
+                        let m = self.add_vertex(x, o.screen);
+                        self.insert_on_edge(edge, m, o.edge_t);
+                        m
+                    }
+                }
+            }
+            Elem::P { face, .. } => {
+                let nearest = self.nearest_corner(face, o.screen);
+                if near(self, nearest) {
+                    nearest
+                } else {
+                    match self.locate(face, o.screen) {
+                        Some(at) => {
+                            let m = self.add_vertex(x, o.screen);
+                            self.insert_in_face(face, m, at);
+                            m
+                        }
+                        // Constructed split vertices can leave a point a rounding error away
+                        // from every sub-triangle; it is then that close to a corner: use it.
+                        None => nearest,
+                    }
+                }
+            }
+            Elem::V(_) => unreachable!("handled above"),
+        };
+        self.placed.insert(o.elem, m);
+        m
+    }
+
+    /// The vertices inserted on a local edge, from its first end to its second.
+    pub fn edge_vertices(&self, e: u32) -> &[(f64, u32)] {
+        &self.edge_vertices[e as usize]
+    }
+
+    fn insert_on_edge(&mut self, e: u32, m: u32, t: f64) {
+        let [a, b] = self.r.edges[e as usize];
+        let list = &self.edge_vertices[e as usize];
+        let k = list.partition_point(|&(x, _)| x < t);
+        let u = if k == 0 { a } else { list[k - 1].1 };
+        let w = if k == list.len() { b } else { list[k].1 };
+        self.edge_vertices[e as usize].insert(k, (t, m));
+        for f in self.r.edge_faces[e as usize] {
+            if f == NONE {
+                continue;
+            }
+            let subs = self.subs_mut(f);
+            if let Some((i, rot)) = find_edge(subs, u, w).or_else(|| find_edge(subs, w, u)) {
+                let t = rotated(subs[i], rot);
+                subs[i] = [t[0], m, t[2]];
+                subs.push([m, t[1], t[2]]);
+            }
+        }
+    }
+
+    /// Where `s` lies among face `lf`'s sub-triangles: strictly inside one, or on an inner
+    /// sub-edge; `None` when no predicate places it (rounding of constructed vertices).
+    fn locate(&self, lf: u32, s: DVec2) -> Option<Location> {
+        let sign = self.r.sign[lf as usize];
+        let subs = self.face_subs(lf);
+        let mut on_edge = None;
+        for (i, t) in subs.iter().enumerate() {
+            let p = t.map(|v| self.screen(v));
+            match in_triangle(p[0], p[1], p[2], sign, s) {
+                Some(true) => return Some(Location::Inside(i)),
+                Some(false) if on_edge.is_none() => {
+                    for r in 0..3 {
+                        let (u, w) = (t[r], t[(r + 1) % 3]);
+                        // Only an inner edge (both sides in this face) may take the point.
+                        let inner = subs
+                            .iter()
+                            .any(|x| find_edge(std::slice::from_ref(x), w, u).is_some());
+                        if inner && orient(p[r], p[(r + 1) % 3], s) == 0.0 {
+                            on_edge = Some(Location::OnEdge(u, w));
+                        }
+                    }
+                }
+                _ => {}
+            }
+        }
+        on_edge
+    }
+
+    fn nearest_corner(&self, lf: u32, s: DVec2) -> u32 {
+        let mut best = (f64::INFINITY, NONE);
+        for t in self.face_subs(lf) {
+            for v in t {
+                let d = (self.screen(v) - s).length();
+                if (d, v) < best {
+                    best = (d, v);
+                }
+            }
+        }
+        best.1
+    }
+
+    fn insert_in_face(&mut self, lf: u32, m: u32, at: Location) {
+        let subs = self.subs_mut(lf);
+        match at {
+            Location::Inside(i) => {
+                let t = subs[i];
+                subs[i] = [t[0], t[1], m];
+                subs.push([t[1], t[2], m]);
+                subs.push([t[2], t[0], m]);
+            }
+            Location::OnEdge(u, w) => {
+                for (a, b) in [(u, w), (w, u)] {
+                    if let Some((i, rot)) = find_edge(subs, a, b) {
+                        let t = rotated(subs[i], rot);
+                        subs[i] = [t[0], m, t[2]];
+                        subs.push([m, t[1], t[2]]);
+                    }
+                }
+            }
+        }
+    }
+
+    /// Makes u-w an edge of face `lf`'s sub-triangles, flipping crossing diagonals if needed.
+    pub fn ensure_chord(&mut self, lf: u32, u: u32, w: u32, protected: &[(u32, u32)]) -> bool {
+        let sign = self.r.sign[lf as usize];
+        for _ in 0..32 {
+            let subs = self.face_subs(lf);
+            if subs.iter().any(|t| t.contains(&u) && t.contains(&w)) {
+                return true;
+            }
+            let (su, sw) = (self.screen(u), self.screen(w));
+            let mut flipped = false;
+            'search: for (i, t) in subs.iter().enumerate() {
+                for r in 0..3 {
+                    let (x, y) = (t[r], t[(r + 1) % 3]);
+                    if x == u
+                        || x == w
+                        || y == u
+                        || y == w
+                        || protected.contains(&(x.min(y), x.max(y)))
+                    {
+                        continue;
+                    }
+                    let (sx, sy) = (self.screen(x), self.screen(y));
+                    let crosses = orient(su, sw, sx) * orient(su, sw, sy) < 0.0
+                        && orient(sx, sy, su) * orient(sx, sy, sw) < 0.0;
+                    if crosses && self.try_flip(lf, i, r, sign, None) {
+                        flipped = true;
+                        break 'search;
+                    }
+                }
+            }
+            if !flipped {
+                return false;
+            }
+        }
+        false
+    }
+
+    /// The shortest route (screen length) from u to w along the edges of face `lf`'s
+    /// sub-triangles, inner vertices only; for a chord that crosses another piece's path in
+    /// the same face (pieces are normalized apart, so their chords may cross).
+    pub fn route(&self, lf: u32, u: u32, w: u32) -> Option<Vec<u32>> {
+        let subs = self.face_subs(lf);
+        let mut nodes: Vec<u32> = subs.iter().flatten().copied().collect();
+        nodes.sort_unstable();
+        nodes.dedup();
+        let idx = |v: u32| nodes.binary_search(&v).ok();
+        let (s, t) = (idx(u)?, idx(w)?);
+        let n = nodes.len();
+        let mut dist = vec![f64::INFINITY; n];
+        let mut prev = vec![usize::MAX; n];
+        let mut done = vec![false; n];
+        dist[s] = 0.0;
+        for _ in 0..n {
+            let Some(a) = (0..n)
+                .filter(|&i| !done[i])
+                .min_by(|&i, &j| dist[i].total_cmp(&dist[j]))
+            else {
+                break;
+            };
+            if dist[a] == f64::INFINITY {
+                break;
+            }
+            done[a] = true;
+            for tri in &subs {
+                if let Some(r) = tri.iter().position(|&x| x == nodes[a]) {
+                    for b in [tri[(r + 1) % 3], tri[(r + 2) % 3]] {
+                        let bi = idx(b).expect("a node");
+                        let d = dist[a] + (self.screen(nodes[a]) - self.screen(b)).length();
+                        if d < dist[bi] {
+                            dist[bi] = d;
+                            prev[bi] = a;
+                        }
+                    }
+                }
+            }
+        }
+        if dist[t] == f64::INFINITY {
+            return None;
+        }
+        let mut inner = Vec::new();
+        let mut k = prev[t];
+        while k != s {
+            inner.push(nodes[k]);
+            k = prev[k];
+        }
+        inner.reverse();
+        Some(inner)
+    }
+
+    /// Flips the diagonal of sub-triangle `i`'s edge `r` if the quadrilateral is strictly
+    /// convex (and, with `better`, only if the smallest angle grows).
+    fn try_flip(&mut self, lf: u32, i: usize, r: usize, sign: f64, better: Option<()>) -> bool {
+        let subs = self.face_subs(lf);
+        let t1 = rotated(subs[i], r);
+        let (x, y, p) = (t1[0], t1[1], t1[2]);
+        let Some((j, rj)) = find_edge(&subs, y, x) else {
+            return false;
+        };
+        let q = rotated(subs[j], rj)[2];
+        let s = [x, q, y, p].map(|v| self.screen(v));
+        let convex = (0..4).all(|k| orient(s[k], s[(k + 1) % 4], s[(k + 2) % 4]) * sign > 0.0);
+        if !convex {
+            return false;
+        }
+        if better.is_some() {
+            let (px, py, pp, pq) = (self.pos(x), self.pos(y), self.pos(p), self.pos(q));
+            let before = min_angle(px, py, pp).min(min_angle(py, px, pq));
+            let after = min_angle(pp, px, pq).min(min_angle(pq, py, pp));
+            if after <= before * (1.0 + 1e-9) {
+                return false;
+            }
+        }
+        let subs = self.subs_mut(lf);
+        subs[i] = [p, x, q];
+        subs[j] = [q, y, p];
+        true
+    }
+
+    /// Max-min-angle flips of the non-path diagonals inside each split face (P2's quad).
+    pub fn improve(&mut self, is_path_edge: &dyn Fn(u32, u32) -> bool) {
+        let touched = self.touched.clone();
+        for lf in touched {
+            let sign = self.r.sign[lf as usize];
+            if sign == 0.0 || !self.r.cuttable[lf as usize] {
+                continue;
+            }
+            for _ in 0..3 {
+                let mut any = false;
+                let n = self.face_subs(lf).len();
+                for i in 0..n {
+                    for r in 0..3 {
+                        let t = self.face_subs(lf)[i];
+                        let (x, y) = (t[r], t[(r + 1) % 3]);
+                        if x > y || is_path_edge(x, y) {
+                            continue;
+                        }
+                        if self.try_flip(lf, i, r, sign, Some(())) {
+                            any = true;
+                        }
+                    }
+                }
+                if !any {
+                    break;
+                }
+            }
+        }
+    }
+}
+
+#[derive(Debug, Clone, Copy)]
+enum Location {
+    Inside(usize),
+    OnEdge(u32, u32),
+}
+
+fn rotated(t: [u32; 3], r: usize) -> [u32; 3] {
+    [t[r], t[(r + 1) % 3], t[(r + 2) % 3]]
+}
+
+/// The sub-triangle with directed edge a → b, and the rotation putting a first.
+fn find_edge(subs: &[[u32; 3]], a: u32, b: u32) -> Option<(usize, usize)> {
+    subs.iter().enumerate().find_map(|(i, t)| {
+        (0..3)
+            .find(|&r| t[r] == a && t[(r + 1) % 3] == b)
+            .map(|r| (i, r))
+    })
+}

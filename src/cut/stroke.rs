@@ -1,0 +1,189 @@
+//! Stroke preprocessing (spec §4, gap-fill): finite points, near points dropped, loops closed,
+//! self-intersection rejected, sharp corners found (seed 002 §3.4, Fig. 11).
+
+use glam::DVec2;
+
+use super::candidates::point_segment_distance;
+use super::geom::{on_segment, orient};
+use super::options::CutOptions;
+use super::view::Stroke;
+use crate::error::{Axis, Error, Result};
+
+/// The stroke as the cut uses it.
+#[derive(Debug, Clone)]
+pub(crate) struct Prepared {
+    /// Kept points. A closed stroke does not repeat its first point.
+    pub points: Vec<DVec2>,
+    /// The input index of each kept point.
+    pub input_index: Vec<u32>,
+    /// Input points dropped: closer than `min_stroke_px` to the previous kept point, or a
+    /// closing point merged into the first.
+    pub dropped: Vec<u32>,
+    /// Whether the last kept point joins the first (a loop).
+    pub closed: bool,
+    /// Kept points where the stroke turns by more than `corner_angle_deg` (seed 002 §3.4).
+    /// For an open stroke only interior points; for a closed one any point.
+    pub corners: Vec<usize>,
+}
+
+impl Prepared {
+    /// Number of segments (a closed stroke has one joining the last point to the first).
+    pub fn segment_count(&self) -> usize {
+        if self.closed {
+            self.points.len()
+        } else {
+            self.points.len() - 1
+        }
+    }
+}
+
+pub(crate) fn prepare(stroke: &Stroke, options: &CutOptions) -> Result<Prepared> {
+    for (i, p) in stroke.points.iter().enumerate() {
+        for (axis, value) in [(Axis::X, p.x), (Axis::Y, p.y)] {
+            if !value.is_finite() {
+                return Err(Error::NonFiniteStrokePoint {
+                    index: i as u32,
+                    axis,
+                    value,
+                });
+            }
+        }
+    }
+    let min = options.min_stroke_px;
+    let mut points: Vec<DVec2> = Vec::with_capacity(stroke.points.len());
+    let mut input_index = Vec::with_capacity(stroke.points.len());
+    let mut dropped = Vec::new();
+    for (i, &p) in stroke.points.iter().enumerate() {
+        // Zero-length segments are dropped whatever `min_stroke_px` is.
+        match points.last() {
+            Some(&q) if (p - q).length() < min || p == q => dropped.push(i as u32),
+            _ => {
+                points.push(p);
+                input_index.push(i as u32);
+            }
+        }
+    }
+    let mut closed = false;
+    if points.len() >= 4 {
+        let (first, last) = (points[0], points[points.len() - 1]);
+        if (last - first).length() < min.max(f64::MIN_POSITIVE) || last == first {
+            closed = true;
+            points.pop();
+            dropped.push(input_index.pop().expect("a kept point"));
+            dropped.sort_unstable();
+        }
+    }
+    if points.len() < 2 {
+        return Err(Error::StrokeTooShort {
+            points: points.len() as u32,
+            min_px: min,
+        });
+    }
+    let mut prepared = Prepared {
+        points,
+        input_index,
+        dropped,
+        closed,
+        corners: Vec::new(),
+    };
+    check_self_intersection(&prepared)?;
+    prepared.corners = corners(&prepared, options.corner_angle_deg);
+    Ok(prepared)
+}
+
+/// Every pair of segments: non-adjacent segments may not touch, adjacent ones may not fold
+/// back onto each other — exactly (`orient2d`), and also not within 1e-9 of the stroke's size
+/// (a stroke that numerically doubles back would make the cut run both ways through the same
+/// faces). O(n²) with a bounding-box reject; strokes have hundreds of points.
+fn check_self_intersection(s: &Prepared) -> Result<()> {
+    let n = s.points.len();
+    let m = s.segment_count();
+    let (lo, hi) = s
+        .points
+        .iter()
+        .fold((s.points[0], s.points[0]), |(l, h), &p| {
+            (l.min(p), h.max(p))
+        });
+    let tol = 1e-9 * (hi - lo).length();
+    let seg = |i: usize| (s.points[i], s.points[(i + 1) % n]);
+    let boxes: Vec<(DVec2, DVec2)> = (0..m)
+        .map(|i| {
+            let (a, b) = seg(i);
+            (a.min(b), a.max(b))
+        })
+        .collect();
+    let fail = |i: usize, j: usize| {
+        Err(Error::StrokeSelfIntersects {
+            first: s.input_index[i],
+            second: s.input_index[j],
+        })
+    };
+    for i in 0..m {
+        for j in i + 1..m {
+            let adjacent_fwd = j == i + 1;
+            let adjacent_wrap = s.closed && i == 0 && j == m - 1;
+            let (a, b) = seg(i);
+            let (c, d) = seg(j);
+            if adjacent_fwd || adjacent_wrap {
+                // Shared point: b == c (forward) or d == a (wrap). Folding back = collinear
+                // and pointing the other way.
+                let (p, q, r) = if adjacent_fwd { (a, b, d) } else { (c, a, b) };
+                let (d1, d2) = (q - p, r - q);
+                let folds = d1.dot(d2) < 0.0
+                    && (orient(p, q, r) == 0.0
+                        || d1.perp_dot(d2).abs() <= 1e-9 * d1.length() * d2.length());
+                if folds {
+                    return fail(i, j);
+                }
+                continue;
+            }
+            let (bi, bj) = (boxes[i], boxes[j]);
+            if bi.1.x + tol < bj.0.x
+                || bj.1.x + tol < bi.0.x
+                || bi.1.y + tol < bj.0.y
+                || bj.1.y + tol < bi.0.y
+            {
+                continue;
+            }
+            let near = [(a, c, d), (b, c, d), (c, a, b), (d, a, b)]
+                .iter()
+                .any(|&(p, x, y)| point_segment_distance(p, x, y) <= tol);
+            if near || segments_meet(a, b, c, d) {
+                return fail(i, j);
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Whether closed segments ab and cd share a point (exact).
+pub(crate) fn segments_meet(a: DVec2, b: DVec2, c: DVec2, d: DVec2) -> bool {
+    let (o1, o2) = (orient(a, b, c), orient(a, b, d));
+    let (o3, o4) = (orient(c, d, a), orient(c, d, b));
+    if o1 * o2 < 0.0 && o3 * o4 < 0.0 {
+        return true;
+    }
+    (o1 == 0.0 && on_segment(a, b, c))
+        || (o2 == 0.0 && on_segment(a, b, d))
+        || (o3 == 0.0 && on_segment(c, d, a))
+        || (o4 == 0.0 && on_segment(c, d, b))
+}
+
+fn corners(s: &Prepared, angle_deg: f64) -> Vec<usize> {
+    let n = s.points.len();
+    let range: Vec<usize> = if s.closed {
+        (0..n).collect()
+    } else {
+        (1..n.saturating_sub(1)).collect()
+    };
+    range
+        .into_iter()
+        .filter(|&k| {
+            let prev = s.points[(k + n - 1) % n];
+            let next = s.points[(k + 1) % n];
+            let (d1, d2) = (s.points[k] - prev, next - s.points[k]);
+            let turn = d1.perp_dot(d2).atan2(d1.dot(d2)).abs().to_degrees();
+            turn > angle_deg
+        })
+        .collect()
+}

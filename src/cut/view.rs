@@ -1,0 +1,164 @@
+//! The camera: a view-projection matrix and a viewport, and the projection of spec §2.
+//!
+//! Conventions (the C header states the same):
+//! - `clip = view_proj · [x, y, z, 1]` with `view_proj` a column-major [`DMat4`]; a point is in
+//!   front of the eye iff `clip.w > 0`, and `ndc = clip.xyz / clip.w`.
+//! - OpenGL-style NDC: x right, y up, depth growing away from the eye (z in [-1, 1]). A
+//!   D3D-style matrix (z in [0, 1], y up) works unchanged: only the depth order is used. A
+//!   Vulkan-style matrix (y down in NDC) shows the mesh upside down against the stroke and
+//!   turns front faces into back faces: negate its second row first. A reversed-Z matrix
+//!   (near at z = 1) inverts visibility: pass a forward-Z one.
+//! - Pixels: origin at the viewport's top-left corner, y down, as Blender's region and Qt's
+//!   widget coordinates are once flipped: `s = (x0 + (ndc.x + 1)/2 · W, y0 + (1 − ndc.y)/2 · H)`.
+//! - Perspective and orthographic matrices go through the same formula (spec §2).
+
+use glam::{DMat4, DVec2, DVec3, DVec4};
+
+use crate::error::{Error, Result};
+
+/// A camera: the matrix taking world points to clip space and the viewport in pixels.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct View {
+    /// `clip = view_proj · [x, y, z, 1]`, column-major, OpenGL NDC conventions (module docs).
+    pub view_proj: DMat4,
+    /// `[x0, y0, width, height]` in pixels, origin top-left, y down.
+    pub viewport: [f64; 4],
+}
+
+impl View {
+    /// A view from its matrix and viewport.
+    pub fn new(view_proj: DMat4, viewport: [f64; 4]) -> Self {
+        View {
+            view_proj,
+            viewport,
+        }
+    }
+}
+
+/// A hand-drawn stroke: pixel positions in the viewport's convention (top-left origin, y down),
+/// in drawing order. A stroke whose last point lies within `min_stroke_px` of its first is
+/// closed (a loop).
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Stroke {
+    /// The points, in pixels.
+    pub points: Vec<DVec2>,
+}
+
+impl Stroke {
+    /// A stroke through these pixel positions.
+    pub fn new(points: Vec<DVec2>) -> Self {
+        Stroke { points }
+    }
+}
+
+/// A vertex seen through the view: its pixel position, its clip-space w (> 0 in front) and its
+/// NDC depth.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Seen {
+    pub screen: DVec2,
+    pub w: f64,
+    pub z: f64,
+}
+
+/// The checked view with its inverse, shared by every stage.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Projector {
+    vp: DMat4,
+    inv: DMat4,
+    x0: f64,
+    y0: f64,
+    half_w: f64,
+    half_h: f64,
+}
+
+impl Projector {
+    /// Checks the view (finite entries, invertible matrix, viewport with area).
+    pub fn new(view: &View) -> Result<Self> {
+        for (c, col) in view.view_proj.to_cols_array_2d().iter().enumerate() {
+            for (r, &value) in col.iter().enumerate() {
+                if !value.is_finite() {
+                    return Err(Error::NonFiniteMatrixEntry {
+                        column: c as u32,
+                        row: r as u32,
+                        value,
+                    });
+                }
+            }
+        }
+        let vp = view.viewport;
+        if vp.iter().any(|v| !v.is_finite()) {
+            return Err(Error::InvalidViewport {
+                viewport: vp,
+                reason: "a value is not finite",
+            });
+        }
+        if vp[2] <= 0.0 || vp[3] <= 0.0 {
+            return Err(Error::InvalidViewport {
+                viewport: vp,
+                reason: "width and height must be positive",
+            });
+        }
+        let m = view.view_proj;
+        let determinant = m.determinant();
+        // Relative to the entries' scale, so a matrix in millimetres is not "singular".
+        let scale = m.to_cols_array().iter().fold(0.0f64, |a, v| a.max(v.abs()));
+        if !(determinant.abs() > 1e-300 && determinant.abs() > 1e-14 * scale.powi(4)) {
+            return Err(Error::SingularViewProjection { determinant });
+        }
+        Ok(Projector {
+            vp: m,
+            inv: m.inverse(),
+            x0: vp[0],
+            y0: vp[1],
+            half_w: vp[2] * 0.5,
+            half_h: vp[3] * 0.5,
+        })
+    }
+
+    /// Clip coordinates of a world point.
+    #[inline]
+    pub fn clip(&self, p: DVec3) -> DVec4 {
+        self.vp * p.extend(1.0)
+    }
+
+    /// Pixel position of NDC x, y.
+    #[inline]
+    pub fn ndc_to_screen(&self, x: f64, y: f64) -> DVec2 {
+        DVec2::new(
+            self.x0 + (x + 1.0) * self.half_w,
+            self.y0 + (1.0 - y) * self.half_h,
+        )
+    }
+
+    /// NDC x, y of a pixel position.
+    #[inline]
+    pub fn screen_to_ndc(&self, s: DVec2) -> DVec2 {
+        DVec2::new(
+            (s.x - self.x0) / self.half_w - 1.0,
+            1.0 - (s.y - self.y0) / self.half_h,
+        )
+    }
+
+    /// The vertex as seen, or `None` behind the eye (`w ≤ 0`, spec §2 "unprojectable").
+    #[inline]
+    pub fn see(&self, p: DVec3) -> Option<Seen> {
+        let c = self.clip(p);
+        if c.w.is_nan() || c.w <= 0.0 {
+            return None;
+        }
+        let inv_w = 1.0 / c.w;
+        Some(Seen {
+            screen: self.ndc_to_screen(c.x * inv_w, c.y * inv_w),
+            w: c.w,
+            z: c.z * inv_w,
+        })
+    }
+
+    /// The world point seen at pixel `s` with clip w `w` and NDC depth `z`: "move in the
+    /// plane parallel to the screen" (seed 002 §3.2; spec §2: keep clip w and z_ndc).
+    pub fn unproject(&self, s: DVec2, w: f64, z: f64) -> DVec3 {
+        let n = self.screen_to_ndc(s);
+        let h = self.inv * DVec4::new(n.x * w, n.y * w, z * w, w);
+        h.truncate() / h.w
+    }
+}

@@ -1,0 +1,149 @@
+//! Visible-only mode: is a point on a face seen from the eye? (seed 002 Fig. 2; spec §3,
+//! gap-fill: decided per crossing by a ray through it.)
+//!
+//! Every face that can hide a point under the stroke projects onto that point, so it is in
+//! the cut region ([`super::candidates`]): the ray is tested against the region's faces only,
+//! bucketed by screen box in a uniform grid of about one face per cell (for a ray through a
+//! single pixel position, a 2D bucket grid does what a BVH would). Written here because it is
+//! a hundred lines, and building a BVH (`parry3d`'s or `rstar`'s) over the region per cut
+//! would cost more than the queries; neither is among the approved crates either.
+//!
+//! Faces with a vertex behind the eye are not tested as occluders (they have no screen
+//! triangle to bucket); a face that close to the camera rarely sits in front of a stroke.
+
+use glam::{DVec2, DVec3};
+
+use super::candidates::{cell_of, CellGrid};
+use super::geom::{barycentric, in_triangle};
+use super::region::Region;
+
+pub(crate) struct FaceBuckets {
+    origin: DVec2,
+    cell: f64,
+    nx: i32,
+    ny: i32,
+    start: Vec<u32>,
+    list: Vec<u32>,
+    eps_world: f64,
+}
+
+impl FaceBuckets {
+    /// Buckets of the region's faces; each face's screen box is grown by `slack` pixels so
+    /// the buckets stay valid while vertices move that far (snapping).
+    pub fn new(region: &Region, grid: &CellGrid, depth_eps_rel: f64, slack: f64) -> Self {
+        // Buckets over the stroke grid's area, about one per face (the stroke grid's cells
+        // are too coarse for point queries on a dense mesh).
+        let (origin, ext) = (
+            grid.origin,
+            DVec2::new(grid.nx as f64, grid.ny as f64) * grid.cell,
+        );
+        let target = (region.tri.len().max(64)) as f64;
+        let cell = ((ext.x * ext.y) / target)
+            .sqrt()
+            .max(ext.x.max(ext.y) / 4096.0)
+            .max(1e-9);
+        let nx = ((ext.x / cell).ceil() as i32).max(1);
+        let ny = ((ext.y / cell).ceil() as i32).max(1);
+        let ncell = (nx * ny) as usize;
+        let mut pairs: Vec<(u32, u32)> = Vec::new();
+        let (mut lo, mut hi) = (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
+        for &p in &region.pos {
+            lo = lo.min(p);
+            hi = hi.max(p);
+        }
+        let range = |a: DVec2, b: DVec2| cell_range(origin, cell, nx, ny, a, b);
+        for lf in 0..region.tri.len() as u32 {
+            if !region.projectable(lf) || region.sign[lf as usize] == 0.0 {
+                continue;
+            }
+            let [a, b, c] = region.face_screen(lf);
+            let pad = DVec2::splat(slack);
+            if let Some((x0, y0, x1, y1)) = range(a.min(b).min(c) - pad, a.max(b).max(c) + pad) {
+                for cy in y0..=y1 {
+                    for cx in x0..=x1 {
+                        pairs.push(((cy * nx + cx) as u32, lf));
+                    }
+                }
+            }
+        }
+        pairs.sort_unstable();
+        let mut start = vec![0u32; ncell + 1];
+        for &(c, _) in &pairs {
+            start[c as usize + 1] += 1;
+        }
+        for i in 0..ncell {
+            start[i + 1] += start[i];
+        }
+        let diag = if region.pos.is_empty() {
+            0.0
+        } else {
+            (hi - lo).length()
+        };
+        FaceBuckets {
+            origin,
+            cell,
+            nx,
+            ny,
+            start,
+            list: pairs.into_iter().map(|(_, f)| f).collect(),
+            eps_world: depth_eps_rel * diag,
+        }
+    }
+
+    /// Candidate faces whose screen box covers the cell of `s` (a superset of those holding `s`).
+    pub fn faces_at(&self, s: DVec2) -> impl Iterator<Item = u32> + '_ {
+        let range = match cell_range(self.origin, self.cell, self.nx, self.ny, s, s) {
+            Some((cx, cy, _, _)) => {
+                let c = (cy * self.nx + cx) as usize;
+                self.start[c] as usize..self.start[c + 1] as usize
+            }
+            None => 0..0,
+        };
+        self.list[range].iter().copied()
+    }
+
+    /// Whether some candidate face lies in front of world point `x` (screen `s`, NDC depth
+    /// `z`) by more than the depth tolerance.
+    pub fn hidden(&self, r: &Region, s: DVec2, z: f64, x: DVec3) -> bool {
+        for lf in self.faces_at(s) {
+            let [a, b, cc] = r.face_screen(lf);
+            if in_triangle(a, b, cc, r.sign[lf as usize], s).is_none() {
+                continue;
+            }
+            let t = r.tri[lf as usize];
+            let l = barycentric(a, b, cc, s);
+            let seen = t.map(|v| r.seen[v as usize].expect("projectable"));
+            // NDC depth is affine on screen; world position is perspective-correct (1/w).
+            let zf = l[0] * seen[0].z + l[1] * seen[1].z + l[2] * seen[2].z;
+            if zf >= z {
+                continue;
+            }
+            let m = [l[0] / seen[0].w, l[1] / seen[1].w, l[2] / seen[2].w];
+            let sum = m[0] + m[1] + m[2];
+            let y = (r.pos[t[0] as usize] * m[0]
+                + r.pos[t[1] as usize] * m[1]
+                + r.pos[t[2] as usize] * m[2])
+                / sum;
+            if (y - x).length() > self.eps_world {
+                return true;
+            }
+        }
+        false
+    }
+}
+
+fn cell_range(
+    origin: DVec2,
+    cell: f64,
+    nx: i32,
+    ny: i32,
+    lo: DVec2,
+    hi: DVec2,
+) -> Option<(i32, i32, i32, i32)> {
+    let (x0, y0) = cell_of(origin, cell, lo);
+    let (x1, y1) = cell_of(origin, cell, hi);
+    if x1 < 0 || y1 < 0 || x0 >= nx || y0 >= ny {
+        return None;
+    }
+    Some((x0.max(0), y0.max(0), x1.min(nx - 1), y1.min(ny - 1)))
+}

@@ -1,0 +1,1468 @@
+//! Stroke cut (seed 002): worked cases, bad input, and the paper's invariants as properties
+//! over random meshes, views and strokes.
+
+use std::collections::{BTreeMap, BTreeSet};
+
+use glam::{DMat4, DVec2, DVec3};
+use katachi::cut::{cut_by_stroke, CutMode, CutOptions, CutOutput, Stroke, View};
+use katachi::mesh::{inspect, shapes};
+use katachi::{Error, FaceId, PolyMesh, VertexId};
+use proptest::prelude::*;
+
+// ---------------------------------------------------------------- meshes, views, strokes
+
+/// An m × n grid of unit squares in z = 0, each split into two triangles (normal +z).
+fn tri_grid(m: u32, n: u32) -> PolyMesh {
+    let mut p = Vec::new();
+    for j in 0..=n {
+        for i in 0..=m {
+            p.push(DVec3::new(i as f64, j as f64, 0.0));
+        }
+    }
+    let id = |i: u32, j: u32| j * (m + 1) + i;
+    let mut f = Vec::new();
+    for j in 0..n {
+        for i in 0..m {
+            f.push(vec![id(i, j), id(i + 1, j), id(i + 1, j + 1)]);
+            f.push(vec![id(i, j), id(i + 1, j + 1), id(i, j + 1)]);
+        }
+    }
+    PolyMesh::from_polygons(p, f).unwrap()
+}
+
+/// `tri_grid` with each interior vertex moved by up to `amount` in x and y (deterministic).
+fn perturbed_grid(m: u32, n: u32, amount: f64, seed: u64) -> PolyMesh {
+    let g = tri_grid(m, n);
+    let mut s = seed
+        .wrapping_mul(6364136223846793005)
+        .wrapping_add(1442695040888963407);
+    let mut rnd = || {
+        s = s
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        ((s >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
+    };
+    let p: Vec<DVec3> = g
+        .positions()
+        .iter()
+        .map(|&q| {
+            let interior = q.x > 0.0 && q.y > 0.0 && q.x < m as f64 && q.y < n as f64;
+            let (dx, dy, dz) = (rnd(), rnd(), rnd());
+            if interior {
+                q + DVec3::new(dx * amount, dy * amount, dz * 0.2)
+            } else {
+                q
+            }
+        })
+        .collect();
+    let faces: Vec<Vec<u32>> = g
+        .faces()
+        .map(|f| g.face_outer(f).iter().map(|v| v.0).collect())
+        .collect();
+    PolyMesh::from_polygons(p, faces).unwrap()
+}
+
+/// An icosphere of radius 1 (outward winding), `levels` midpoint subdivisions.
+fn icosphere(levels: u32) -> PolyMesh {
+    let t = (1.0 + 5f64.sqrt()) / 2.0;
+    let mut p: Vec<DVec3> = [
+        (-1.0, t, 0.0),
+        (1.0, t, 0.0),
+        (-1.0, -t, 0.0),
+        (1.0, -t, 0.0),
+        (0.0, -1.0, t),
+        (0.0, 1.0, t),
+        (0.0, -1.0, -t),
+        (0.0, 1.0, -t),
+        (t, 0.0, -1.0),
+        (t, 0.0, 1.0),
+        (-t, 0.0, -1.0),
+        (-t, 0.0, 1.0),
+    ]
+    .iter()
+    .map(|&(x, y, z)| DVec3::new(x, y, z).normalize())
+    .collect();
+    let mut f: Vec<[u32; 3]> = vec![
+        [0, 11, 5],
+        [0, 5, 1],
+        [0, 1, 7],
+        [0, 7, 10],
+        [0, 10, 11],
+        [1, 5, 9],
+        [5, 11, 4],
+        [11, 10, 2],
+        [10, 7, 6],
+        [7, 1, 8],
+        [3, 9, 4],
+        [3, 4, 2],
+        [3, 2, 6],
+        [3, 6, 8],
+        [3, 8, 9],
+        [4, 9, 5],
+        [2, 4, 11],
+        [6, 2, 10],
+        [8, 6, 7],
+        [9, 8, 1],
+    ];
+    for _ in 0..levels {
+        let mut mid: BTreeMap<(u32, u32), u32> = BTreeMap::new();
+        let mut nf = Vec::new();
+        for t in &f {
+            let mut m = [0u32; 3];
+            for i in 0..3 {
+                let (a, b) = (t[i], t[(i + 1) % 3]);
+                m[i] = *mid.entry((a.min(b), a.max(b))).or_insert_with(|| {
+                    p.push(((p[a as usize] + p[b as usize]) / 2.0).normalize());
+                    p.len() as u32 - 1
+                });
+            }
+            nf.push([t[0], m[0], m[2]]);
+            nf.push([t[1], m[1], m[0]]);
+            nf.push([t[2], m[2], m[1]]);
+            nf.push([m[0], m[1], m[2]]);
+        }
+        f = nf;
+    }
+    PolyMesh::from_polygons(p, f.iter()).unwrap()
+}
+
+/// Looking down −z at the rectangle [x0, x1] × [y0, y1], orthographic, `px` units per pixel.
+fn top_view(x0: f64, x1: f64, y0: f64, y1: f64, px: f64) -> View {
+    let vp = DMat4::orthographic_rh_gl(x0, x1, y0, y1, 0.1, 100.0)
+        * DMat4::look_at_rh(DVec3::new(0.0, 0.0, 10.0), DVec3::ZERO, DVec3::Y);
+    View::new(vp, [0.0, 0.0, (x1 - x0) / px, (y1 - y0) / px])
+}
+
+/// A perspective camera at `eye` looking at `target`, 60° field of view, 800 × 600 pixels.
+fn perspective(eye: DVec3, target: DVec3) -> View {
+    let up = if (eye - target).cross(DVec3::Y).length() < 1e-9 {
+        DVec3::Z
+    } else {
+        DVec3::Y
+    };
+    let vp = DMat4::perspective_rh_gl(60f64.to_radians(), 800.0 / 600.0, 0.05, 100.0)
+        * DMat4::look_at_rh(eye, target, up);
+    View::new(vp, [0.0, 0.0, 800.0, 600.0])
+}
+
+/// Screen position and (w, z_ndc) of a world point, `None` behind the eye.
+fn project(view: &View, p: DVec3) -> Option<(DVec2, f64, f64)> {
+    let c = view.view_proj * p.extend(1.0);
+    if c.w <= 0.0 {
+        return None;
+    }
+    let n = c.truncate() / c.w;
+    let v = view.viewport;
+    Some((
+        DVec2::new(
+            v[0] + (n.x + 1.0) / 2.0 * v[2],
+            v[1] + (1.0 - n.y) / 2.0 * v[3],
+        ),
+        c.w,
+        n.z,
+    ))
+}
+
+fn screen(view: &View, p: DVec3) -> DVec2 {
+    project(view, p).unwrap().0
+}
+
+fn stroke(pts: &[(f64, f64)]) -> Stroke {
+    Stroke::new(pts.iter().map(|&(x, y)| DVec2::new(x, y)).collect())
+}
+
+fn through_all() -> CutOptions {
+    CutOptions::with_mode(CutMode::ThroughAll)
+}
+
+fn cut(mesh: &PolyMesh, pts: &[(f64, f64)], view: &View, o: &CutOptions) -> CutOutput {
+    cut_by_stroke(mesh, &stroke(pts), view, o).unwrap()
+}
+
+// ---------------------------------------------------------------- checks
+
+fn faces_of(m: &PolyMesh) -> Vec<[u32; 3]> {
+    m.faces()
+        .map(|f| {
+            let l = m.face_outer(f);
+            assert_eq!(l.len(), 3, "the output is all triangles");
+            [l[0].0, l[1].0, l[2].0]
+        })
+        .collect()
+}
+
+fn edge_set(m: &PolyMesh) -> BTreeSet<(u32, u32)> {
+    let mut s = BTreeSet::new();
+    for t in faces_of(m) {
+        for i in 0..3 {
+            let (a, b) = (t[i], t[(i + 1) % 3]);
+            s.insert((a.min(b), a.max(b)));
+        }
+    }
+    s
+}
+
+/// Per connected component (through shared vertices): (V, E, F, boundary edges), counted by
+/// brute force over the face list.
+fn components(m: &PolyMesh) -> Vec<(i64, i64, i64, i64)> {
+    let tris = faces_of(m);
+    let nv = m.vertex_count() as usize;
+    let mut parent: Vec<usize> = (0..nv).collect();
+    fn root(p: &mut [usize], mut x: usize) -> usize {
+        while p[x] != x {
+            p[x] = p[p[x]];
+            x = p[x];
+        }
+        x
+    }
+    for t in &tris {
+        for i in 1..3 {
+            let (a, b) = (
+                root(&mut parent, t[0] as usize),
+                root(&mut parent, t[i] as usize),
+            );
+            parent[a] = b;
+        }
+    }
+    let mut uses: BTreeMap<(u32, u32), u32> = BTreeMap::new();
+    for t in &tris {
+        for i in 0..3 {
+            let (a, b) = (t[i], t[(i + 1) % 3]);
+            *uses.entry((a.min(b), a.max(b))).or_default() += 1;
+        }
+    }
+    let mut comp: BTreeMap<usize, (BTreeSet<u32>, i64, i64, i64)> = BTreeMap::new();
+    for t in &tris {
+        let r = root(&mut parent, t[0] as usize);
+        let c = comp.entry(r).or_default();
+        c.0.extend(t.iter().copied());
+        c.3 += 1;
+    }
+    for (&(a, _), &u) in &uses {
+        let r = root(&mut parent, a as usize);
+        let c = comp.get_mut(&r).unwrap();
+        c.1 += 1;
+        if u == 1 {
+            c.2 += 1;
+        }
+    }
+    let mut v: Vec<_> = comp
+        .into_values()
+        .map(|(vs, e, b, f)| (vs.len() as i64, e, f, b))
+        .collect();
+    v.sort();
+    v
+}
+
+fn euler(c: &[(i64, i64, i64, i64)]) -> i64 {
+    c.iter().map(|&(v, e, f, _)| v - e + f).sum()
+}
+
+/// Valid, manifold, consistently oriented, no zero-area face, origins in range.
+fn check_valid(input: &PolyMesh, out: &CutOutput) {
+    assert_eq!(out.face_origin.len(), out.mesh.face_count() as usize);
+    assert!(out.face_origin.iter().all(|f| f.0 < input.face_count()));
+    let r = inspect(&out.mesh).unwrap();
+    assert!(r.defects.is_empty(), "{:?}", r.defects);
+    let ri = inspect(input).unwrap();
+    assert!(r.unreferenced_vertices <= ri.unreferenced_vertices);
+    // No duplicate faces.
+    let mut seen = BTreeSet::new();
+    for mut t in faces_of(&out.mesh) {
+        t.sort_unstable();
+        assert!(seen.insert(t), "duplicate face {t:?}");
+    }
+}
+
+fn path_edges(out: &CutOutput) -> Vec<(u32, u32)> {
+    let mut v = Vec::new();
+    for p in &out.report.paths {
+        let n = p.vertices.len();
+        let m = if p.closed { n } else { n - 1 };
+        for k in 0..m {
+            let (a, b) = (p.vertices[k].0, p.vertices[(k + 1) % n].0);
+            v.push((a.min(b), a.max(b)));
+        }
+    }
+    v
+}
+
+/// Every path edge is an edge of the output (T1): the cut runs along mesh edges.
+fn check_paths_are_edges(out: &CutOutput) {
+    if out.report.paths.is_empty() {
+        return;
+    }
+    let edges = edge_set(&out.mesh);
+    for e in path_edges(out) {
+        assert!(
+            edges.contains(&e),
+            "path edge {e:?} is not an edge of the output"
+        );
+    }
+}
+
+fn dist_to_polyline(p: DVec2, pts: &[DVec2]) -> f64 {
+    pts.windows(2)
+        .map(|w| {
+            let (a, b) = (w[0], w[1]);
+            let ab = b - a;
+            let t = ((p - a).dot(ab) / ab.length_squared()).clamp(0.0, 1.0);
+            (a + ab * t - p).length()
+        })
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// How many output faces each input face became.
+fn pieces_per_face(out: &CutOutput) -> BTreeMap<FaceId, u32> {
+    let mut m = BTreeMap::new();
+    for &f in &out.face_origin {
+        *m.entry(f).or_default() += 1;
+    }
+    m
+}
+
+// ---------------------------------------------------------------- worked cases
+
+/// 8 × 8 grid seen from above at 50 px per unit (pixel (x, y) = (50 (X + 0.5), 50 (8.5 − Y))).
+fn grid_scene() -> (PolyMesh, View) {
+    (tri_grid(8, 8), top_view(-0.5, 8.5, -0.5, 8.5, 0.02))
+}
+
+fn px(x: f64, y: f64) -> (f64, f64) {
+    (50.0 * (x + 0.5), 50.0 * (8.5 - y))
+}
+
+#[test]
+fn stroke_along_an_edge_adds_no_vertex() {
+    let (g, v) = grid_scene();
+    let out = cut(&g, &[px(1.0, 4.0), px(6.0, 4.0)], &v, &through_all());
+    check_valid(&g, &out);
+    assert_eq!(out.report.new_vertices, 0);
+    assert_eq!(out.mesh.face_count(), g.face_count());
+    assert_eq!(out.report.paths.len(), 1);
+    let ids: Vec<u32> = out.report.paths[0].vertices.iter().map(|v| v.0).collect();
+    assert_eq!(ids, (37..=42).collect::<Vec<u32>>());
+    assert!(out.report.moved.iter().all(|m| m.pixels < 1e-9));
+    check_paths_are_edges(&out);
+}
+
+#[test]
+fn stroke_through_a_vertex_keeps_it_on_the_path() {
+    let (g, v) = grid_scene();
+    // Diagonal crossing vertex (4, 4) exactly, between grid lines elsewhere; no snapping.
+    let mut o = through_all();
+    o.snap_vertex_ratio = 0.0;
+    o.snap_segment_ratio = 0.0;
+    let out = cut(&g, &[px(1.3, 2.1), px(4.0, 4.0), px(6.7, 5.9)], &v, &o);
+    check_valid(&g, &out);
+    let center = VertexId(4 * 9 + 4);
+    assert_eq!(out.report.paths.len(), 1);
+    assert!(out.report.paths[0].vertices.contains(&center));
+    assert_eq!(out.mesh.position(center), DVec3::new(4.0, 4.0, 0.0));
+    check_paths_are_edges(&out);
+}
+
+#[test]
+fn stroke_ending_inside_a_face_splits_it_around_the_end() {
+    let (g, v) = grid_scene();
+    // From outside the grid to (3.3, 4.6), well inside the triangle (3,4)-(4,5)-(3,5).
+    let end = px(3.3, 4.6);
+    let out = cut(&g, &[px(-0.4, 4.55), end], &v, &through_all());
+    check_valid(&g, &out);
+    assert_eq!(out.report.paths.len(), 1);
+    let path = &out.report.paths[0].vertices;
+    let last = *path.last().unwrap();
+    assert!(last.0 >= g.vertex_count(), "the end is a new vertex");
+    let s = screen(&v, out.mesh.position(last));
+    assert!((s - DVec2::new(end.0, end.1)).length() < 1e-9, "{s}");
+    // The face holding the end: ≤ 4 pieces; every other face ≤ 3.
+    let end_face = FaceId(2 * (4 * 8 + 3) + 1);
+    let pieces = pieces_per_face(&out);
+    assert!(
+        pieces[&end_face] >= 3 && pieces[&end_face] <= 4,
+        "{}",
+        pieces[&end_face]
+    );
+    for (f, &n) in &pieces {
+        if *f != end_face {
+            assert!(n <= 3, "face {f} in {n} pieces");
+        }
+    }
+    check_paths_are_edges(&out);
+}
+
+#[test]
+fn sharp_corner_splits_the_stroke_and_is_kept() {
+    let (g, v) = grid_scene();
+    let corner = px(4.35, 5.6);
+    let out = cut(
+        &g,
+        &[px(1.6, 2.35), corner, px(7.4, 2.45)],
+        &v,
+        &through_all(),
+    );
+    check_valid(&g, &out);
+    assert_eq!(out.report.pieces, 2);
+    assert_eq!(out.report.paths.len(), 2);
+    let (a, b) = (&out.report.paths[0].vertices, &out.report.paths[1].vertices);
+    assert_eq!(a.last(), b.first(), "the pieces meet at the corner");
+    let s = screen(&v, out.mesh.position(*a.last().unwrap()));
+    assert!(
+        (s - DVec2::new(corner.0, corner.1)).length() < 1e-6,
+        "the corner is on the cut: {s}"
+    );
+    // With corners ignored, the corner is normalized away.
+    let mut o = through_all();
+    o.corner_angle_deg = 180.0;
+    let smooth = cut(&g, &[px(1.6, 2.35), corner, px(7.4, 2.45)], &v, &o);
+    assert_eq!(smooth.report.pieces, 1);
+    let on_corner = smooth
+        .report
+        .paths
+        .iter()
+        .flat_map(|p| p.vertices.iter())
+        .any(|&x| {
+            (screen(&v, smooth.mesh.position(x)) - DVec2::new(corner.0, corner.1)).length() < 1e-6
+        });
+    assert!(!on_corner);
+    check_paths_are_edges(&out);
+}
+
+#[test]
+fn crossing_one_triangle_several_times_is_normalized() {
+    // One big triangle pair; a zig-zag crosses the diagonal four times.
+    let g = tri_grid(1, 1);
+    let v = top_view(-0.5, 1.5, -0.5, 1.5, 0.005); // 400 px
+    let pts: Vec<(f64, f64)> = vec![
+        (30.0, 200.0),
+        (150.0, 180.0),
+        (200.0, 230.0),
+        (250.0, 160.0),
+        (300.0, 210.0),
+        (370.0, 200.0),
+    ];
+    let mut o = through_all();
+    o.corner_angle_deg = 180.0;
+    let out = cut(&g, &pts, &v, &o);
+    check_valid(&g, &out);
+    for (f, n) in pieces_per_face(&out) {
+        assert!(n <= 3, "face {f}: {n} pieces");
+    }
+    let d = &out.report.dropped;
+    assert!(!d.first_normalization.is_empty(), "{d:?}");
+    assert!(
+        !d.second_normalization.is_empty() || out.report.new_vertices <= 3,
+        "{d:?}"
+    );
+    check_paths_are_edges(&out);
+}
+
+#[test]
+fn leaving_the_screen_cuts_what_is_seen() {
+    let (g, v) = grid_scene();
+    let out = cut(
+        &g,
+        &[(-300.0, 210.0), px(4.2, 4.3), (900.0, 260.0)],
+        &v,
+        &through_all(),
+    );
+    check_valid(&g, &out);
+    assert_eq!(out.report.paths.len(), 1);
+    assert!(!out.report.dropped.off_mesh.is_empty());
+    // Boundary to boundary: the path starts and ends on the grid's border.
+    let p = &out.report.paths[0].vertices;
+    let r = inspect(&out.mesh).unwrap();
+    assert_eq!(r.boundary_loops, 1);
+    let mut uses: BTreeMap<(u32, u32), u32> = BTreeMap::new();
+    for t in faces_of(&out.mesh) {
+        for i in 0..3 {
+            let (a, b) = (t[i], t[(i + 1) % 3]);
+            *uses.entry((a.min(b), a.max(b))).or_default() += 1;
+        }
+    }
+    for end in [p[0], *p.last().unwrap()] {
+        assert!(
+            uses.iter()
+                .any(|(&(a, b), &u)| u == 1 && (a == end.0 || b == end.0)),
+            "{end}"
+        );
+    }
+}
+
+#[test]
+fn faces_behind_the_camera_are_never_cut() {
+    // A long strip along -z, the eye inside it: the far part is in front, the near behind.
+    let g = tri_grid(4, 40);
+    let to_strip = DMat4::from_translation(DVec3::new(-2.0, -20.0, 0.0));
+    let cam = perspective(DVec3::new(0.0, -10.0, 1.0), DVec3::new(0.0, 10.0, 0.0));
+    let view = View::new(cam.view_proj * to_strip, cam.viewport);
+    let o = through_all();
+    let out = cut(
+        &g,
+        &[(100.0, 590.0), (400.0, 320.0), (700.0, 590.0)],
+        &view,
+        &o,
+    );
+    check_valid(&g, &out);
+    assert!(!out.report.clipped_faces.is_empty());
+    // No tear along the faces skipped: the boundary is the strip's, nothing more.
+    let (ri, ro) = (inspect(&g).unwrap(), inspect(&out.mesh).unwrap());
+    assert_eq!(ro.boundary_edges, ri.boundary_edges);
+    assert_eq!(ro.boundary_loops, 1);
+    let pieces = pieces_per_face(&out);
+    for f in &out.report.clipped_faces {
+        assert_eq!(pieces[f], 1, "clipped face {f} was split");
+    }
+    let behind = |p: DVec3| project(&view, p).is_none();
+    for (i, t) in faces_of(&out.mesh).iter().enumerate() {
+        let orig = out.face_origin[i];
+        let corners = g.face_outer(orig);
+        if corners.iter().any(|&c| behind(g.position(c))) {
+            assert!(
+                t.iter().all(|&c| c < g.vertex_count()),
+                "new vertex in clipped face {orig}"
+            );
+        }
+    }
+}
+
+#[test]
+fn stroke_entirely_outside_is_a_no_op() {
+    let (g, v) = grid_scene();
+    let out = cut(
+        &g,
+        &[(500.0, 10.0), (600.0, 40.0), (700.0, 20.0)],
+        &v,
+        &through_all(),
+    );
+    assert!(out.report.nothing_cut());
+    assert_eq!(out.mesh, g);
+    assert_eq!(out.report.dropped.off_mesh, vec![0, 1, 2]);
+    assert_eq!(out.report.mean_edge_length_px, 0.0);
+}
+
+#[test]
+fn near_points_are_dropped_and_reported() {
+    let (g, v) = grid_scene();
+    let out = cut(
+        &g,
+        &[px(1.3, 4.4), px(1.31, 4.4), px(4.5, 4.3), px(6.6, 4.35)],
+        &v,
+        &through_all(),
+    );
+    assert_eq!(out.report.dropped.preprocessing, vec![1]);
+}
+
+#[test]
+fn visible_only_cuts_the_front_of_a_sphere_and_through_all_both_sides() {
+    let s = icosphere(3);
+    let v = perspective(DVec3::new(0.0, 0.0, 4.0), DVec3::ZERO);
+    let pts = [(250.0, 280.0), (400.0, 300.0), (550.0, 310.0)];
+    let front = cut(&s, &pts, &v, &CutOptions::default());
+    check_valid(&s, &front);
+    assert_eq!(front.report.paths.len(), 1);
+    check_front_only(&s, &v, &front);
+    let all = cut(&s, &pts, &v, &through_all());
+    check_valid(&s, &all);
+    assert_eq!(all.report.paths.len(), 2, "{:?}", all.report.paths);
+    assert!(all.report.new_vertices > front.report.new_vertices);
+}
+
+/// Visible-only never splits a back face or a hidden one by a path: every path edge lies in
+/// a face that was front-facing, and every path vertex is seen (brute-force ray test).
+fn check_front_only(input: &PolyMesh, view: &View, out: &CutOutput) {
+    let front = |f: FaceId| {
+        let c = input.face_outer(f);
+        let s: Vec<DVec2> = c.iter().map(|&x| screen(view, input.position(x))).collect();
+        (s[1] - s[0]).perp_dot(s[2] - s[0]) < 0.0
+    };
+    let tris = faces_of(&out.mesh);
+    for (a, b) in path_edges(out) {
+        let ok = tris
+            .iter()
+            .enumerate()
+            .filter(|(_, t)| t.contains(&a) && t.contains(&b))
+            .any(|(i, _)| front(out.face_origin[i]));
+        assert!(ok, "path edge {a}-{b} lies in no front face");
+    }
+    // Seen: no output face in front of the path vertex at its pixel (beyond a tolerance).
+    let faces = faces_of(&out.mesh);
+    for p in &out.report.paths {
+        for &x in &p.vertices {
+            let (sx, _, zx) = project(view, out.mesh.position(x)).unwrap();
+            for t in &faces {
+                let c: Vec<(DVec2, f64, f64)> = t
+                    .iter()
+                    .map(|&q| project(view, out.mesh.position(VertexId(q))).unwrap())
+                    .collect();
+                let (a, b, cc) = (c[0].0, c[1].0, c[2].0);
+                let area = (b - a).perp_dot(cc - a);
+                if area == 0.0 {
+                    continue;
+                }
+                let la = (b - sx).perp_dot(cc - sx) / area;
+                let lb = (cc - sx).perp_dot(a - sx) / area;
+                let lc = 1.0 - la - lb;
+                if la < 1e-9 || lb < 1e-9 || lc < 1e-9 {
+                    continue;
+                }
+                let z = la * c[0].2 + lb * c[1].2 + lc * c[2].2;
+                assert!(z > zx - 1e-6, "path vertex {x} is hidden by face {t:?}");
+            }
+        }
+    }
+    // Moved vertices: every face around them front-facing.
+    for m in &out.report.moved {
+        for f in input.faces() {
+            if input.face_outer(f).contains(&m.vertex) {
+                assert!(front(f), "moved vertex {} touches back face {f}", m.vertex);
+            }
+        }
+    }
+}
+
+#[test]
+fn a_hidden_sheet_is_not_cut_in_visible_only_mode() {
+    // Two grids, one 1 unit below the other, seen from above: only the top one is cut.
+    let top = tri_grid(6, 6);
+    let mut p = top.positions().to_vec();
+    let nv = p.len() as u32;
+    p.extend(top.positions().iter().map(|q| *q - DVec3::Z));
+    let mut faces: Vec<Vec<u32>> = top
+        .faces()
+        .map(|f| top.face_outer(f).iter().map(|v| v.0).collect())
+        .collect();
+    let n = faces.len();
+    for k in 0..n {
+        let t: Vec<u32> = faces[k].iter().map(|&v| v + nv).collect();
+        faces.push(t);
+    }
+    let two = PolyMesh::from_polygons(p, faces).unwrap();
+    let v = top_view(-0.5, 6.5, -0.5, 6.5, 0.02);
+    let pts = [(40.0, 120.0), (200.0, 150.0), (300.0, 170.0)];
+    let vis = cut(&two, &pts, &v, &CutOptions::default());
+    check_valid(&two, &vis);
+    let lower_split = pieces_per_face(&vis)
+        .iter()
+        .any(|(f, &c)| f.0 as usize >= n && c > 1);
+    assert!(!lower_split, "visible-only split a hidden face");
+    assert!(vis.report.paths.len() == 1);
+    let all = cut(&two, &pts, &v, &through_all());
+    assert_eq!(all.report.paths.len(), 2);
+    let lower_split = pieces_per_face(&all)
+        .iter()
+        .any(|(f, &c)| f.0 as usize >= n && c > 1);
+    assert!(lower_split);
+}
+
+#[test]
+fn moved_vertices_keep_their_depth_and_stay_within_the_snap_distance() {
+    let g = perturbed_grid(10, 10, 0.25, 7);
+    let v = perspective(DVec3::new(5.0, -6.0, 9.0), DVec3::new(5.0, 5.0, 0.0));
+    let pts = [(150.0, 320.0), (400.0, 300.0), (650.0, 340.0)];
+    let o = CutOptions::default();
+    let out = cut(&g, &pts, &v, &o);
+    check_valid(&g, &out);
+    assert!(!out.report.moved.is_empty());
+    check_moves(&g, &v, &out, &o);
+}
+
+fn check_moves(input: &PolyMesh, v: &View, out: &CutOutput, o: &CutOptions) {
+    let l = out.report.mean_edge_length_px;
+    let reach = o.snap_vertex_ratio.max(o.snap_segment_ratio) * l;
+    for m in &out.report.moved {
+        assert_eq!(m.from, input.position(m.vertex));
+        assert_eq!(m.to, out.mesh.position(m.vertex));
+        let (s0, w0, z0) = project(v, m.from).unwrap();
+        let (s1, w1, z1) = project(v, m.to).unwrap();
+        assert!(
+            (w1 - w0).abs() <= 1e-9 * w0.abs().max(1.0),
+            "w {w0} -> {w1}"
+        );
+        assert!((z1 - z0).abs() <= 1e-9, "z {z0} -> {z1}");
+        assert!(
+            (s1 - s0).length() <= reach * (1.0 + 1e-9),
+            "moved {} px",
+            (s1 - s0).length()
+        );
+        assert!(((s1 - s0).length() - m.pixels).abs() < 1e-6);
+    }
+    let max = out
+        .report
+        .moved
+        .iter()
+        .map(|m| m.pixels)
+        .fold(0.0, f64::max);
+    assert_eq!(out.report.max_move_px, max);
+}
+
+#[test]
+fn n_gons_are_triangulated_and_faces_map_back() {
+    let quads = shapes::grid(6, 6);
+    let v = top_view(-0.5, 6.5, -0.5, 6.5, 0.02);
+    let out = cut(
+        &quads,
+        &[(40.0, 120.0), (200.0, 150.0), (300.0, 170.0)],
+        &v,
+        &through_all(),
+    );
+    check_valid(&quads, &out);
+    // Every output triangle lies inside its origin quad (centroid test in the plane).
+    for (i, t) in faces_of(&out.mesh).iter().enumerate() {
+        let c = t
+            .iter()
+            .map(|&x| out.mesh.position(VertexId(x)))
+            .sum::<DVec3>()
+            / 3.0;
+        let q = quads.face_outer(out.face_origin[i]);
+        let lo = q
+            .iter()
+            .map(|&x| quads.position(x))
+            .fold(DVec3::INFINITY, DVec3::min);
+        let hi = q
+            .iter()
+            .map(|&x| quads.position(x))
+            .fold(DVec3::NEG_INFINITY, DVec3::max);
+        assert!(
+            c.x >= lo.x - 0.31 && c.x <= hi.x + 0.31 && c.y >= lo.y - 0.31 && c.y <= hi.y + 0.31
+        );
+    }
+    assert!(out.face_origin.iter().all(|f| f.0 < 36));
+    let labelled = {
+        let mut m = quads.clone();
+        m.set_face_labels((0..36).collect()).unwrap();
+        m
+    };
+    let out2 = cut(
+        &labelled,
+        &[(40.0, 120.0), (200.0, 150.0), (300.0, 170.0)],
+        &v,
+        &through_all(),
+    );
+    for (i, f) in out2.face_origin.iter().enumerate() {
+        assert_eq!(out2.mesh.face_labels()[i], f.0, "labels follow face_origin");
+    }
+}
+
+#[test]
+fn faces_with_holes_are_bridged_first() {
+    let plate = shapes::plate_with_hole(4.0, 2.0, 0.5);
+    let v = top_view(-2.5, 2.5, -2.5, 2.5, 0.01);
+    let out = cut(
+        &plate,
+        &[(20.0, 100.0), (480.0, 120.0)],
+        &v,
+        &CutOptions::default(),
+    );
+    check_valid(&plate, &out);
+    assert!(out.face_origin.iter().all(|f| f.0 < plate.face_count()));
+    assert!(!out.report.paths.is_empty());
+}
+
+#[test]
+fn degenerate_faces_are_reported_and_not_cut_through() {
+    // Vertex (5, 4) moved onto the diagonal (4,4)-(5,5): face (4,4),(5,4),(5,5) has no area.
+    let g = tri_grid(8, 8);
+    let mut p = g.positions().to_vec();
+    p[4 * 9 + 5] = DVec3::new(4.5, 4.5, 0.0);
+    let faces: Vec<Vec<u32>> = g
+        .faces()
+        .map(|f| g.face_outer(f).iter().map(|v| v.0).collect())
+        .collect();
+    let m = PolyMesh::from_polygons(p, faces).unwrap();
+    let flat = FaceId(2 * (4 * 8 + 4));
+    let v = top_view(-0.5, 8.5, -0.5, 8.5, 0.02);
+    let mut o = through_all();
+    o.snap_vertex_ratio = 0.0;
+    o.snap_segment_ratio = 0.0;
+    let out = cut(&m, &[px(3.2, 4.3), px(6.7, 4.62)], &v, &o);
+    assert!(
+        out.report.degenerate_faces.contains(&flat),
+        "{:?}",
+        out.report.degenerate_faces
+    );
+    // No path edge inside the flat face: every output piece of it has at most one new
+    // vertex and that vertex is on its boundary (a T-junction split), never a chord.
+    let tris = faces_of(&out.mesh);
+    for (a, b) in path_edges(&out) {
+        let inside_flat = tris
+            .iter()
+            .enumerate()
+            .filter(|(_, t)| t.contains(&a) && t.contains(&b))
+            .all(|(i, _)| out.face_origin[i] == flat);
+        assert!(
+            !inside_flat,
+            "path edge {a}-{b} runs through the degenerate face"
+        );
+    }
+}
+
+#[test]
+fn new_triangles_keep_a_quarter_of_the_grid_angle() {
+    // T3 (spec §7, gap-fill target): on a regular grid every new triangle's smallest angle
+    // is at least min(45°, 30°) / 4, and none is flat.
+    let (g, v) = grid_scene();
+    let strokes: [&[(f64, f64)]; 4] = [
+        &[px(0.3, 1.2), px(3.1, 3.05), px(7.7, 6.4)],
+        &[px(-0.2, 4.49), px(8.3, 4.2)],
+        &[px(1.1, 7.2), px(2.9, 4.1), px(4.4, 2.6), px(7.9, 0.7)],
+        &[px(2.2, 2.2), px(5.3, 2.9), px(6.1, 5.7)],
+    ];
+    for pts in strokes {
+        let out = cut(&g, pts, &v, &through_all());
+        check_valid(&g, &out);
+        let l = out.report.mean_edge_length_px;
+        for (i, t) in faces_of(&out.mesh).iter().enumerate() {
+            if i < g.face_count() as usize && t.iter().all(|&c| c < g.vertex_count()) {
+                continue; // untouched
+            }
+            let p = t.map(|c| out.mesh.position(VertexId(c)));
+            let s = t.map(|c| screen(&v, out.mesh.position(VertexId(c))));
+            let area = (s[1] - s[0]).perp_dot(s[2] - s[0]).abs() / 2.0;
+            assert!(area >= 1e-12 * l * l, "flat face {t:?}");
+            let ang = |a: DVec3, b: DVec3, c: DVec3| (b - a).angle_between(c - a).to_degrees();
+            let min = ang(p[0], p[1], p[2])
+                .min(ang(p[1], p[2], p[0]))
+                .min(ang(p[2], p[0], p[1]));
+            assert!(min >= 30.0 / 4.0, "face {t:?}: smallest angle {min}°");
+        }
+    }
+}
+
+// ---------------------------------------------------------------- opening (T5)
+
+#[test]
+fn opening_a_slit_lowers_euler_by_one_and_adds_a_boundary() {
+    let (g, v) = grid_scene();
+    let mut o = through_all();
+    o.open = true;
+    let out = cut(&g, &[px(2.3, 4.45), px(4.5, 4.6), px(5.6, 4.4)], &v, &o);
+    check_valid(&g, &out);
+    let before = components(&g);
+    let after = components(&out.mesh);
+    assert_eq!(after.len(), 1);
+    assert_eq!(euler(&after), euler(&before) - 1);
+    let r = inspect(&out.mesh).unwrap();
+    assert_eq!(r.boundary_loops, 2);
+    // k interior path vertices gained one copy each.
+    let p = &out.report.paths[0].vertices;
+    assert_eq!(
+        out.report.new_vertices as usize,
+        count_split(&out, &g) + p.len() - 2
+    );
+}
+
+fn count_split(out: &CutOutput, g: &PolyMesh) -> usize {
+    // New vertices that are not opening copies: their position differs from every older one.
+    let n = g.vertex_count() as usize;
+    let pos = out.mesh.positions();
+    (n..pos.len())
+        .filter(|&i| !pos[..i].contains(&pos[i]))
+        .count()
+}
+
+#[test]
+fn opening_boundary_to_boundary_separates_two_disks() {
+    let (g, v) = grid_scene();
+    let mut o = through_all();
+    o.open = true;
+    let out = cut(&g, &[px(-0.4, 4.45), px(4.5, 4.6), px(8.4, 4.4)], &v, &o);
+    check_valid(&g, &out);
+    let after = components(&out.mesh);
+    assert_eq!(after.len(), 2, "{after:?}");
+    assert_eq!(euler(&after), euler(&components(&g)) + 1);
+    for c in &after {
+        assert_eq!(c.0 - c.1 + c.2, 1, "each part is a disk");
+    }
+}
+
+#[test]
+fn opening_a_closed_loop_cuts_out_a_disk() {
+    let (g, v) = grid_scene();
+    let mut o = through_all();
+    o.open = true;
+    let c = DVec2::new(4.1, 4.3);
+    let pts: Vec<(f64, f64)> = (0..=24)
+        .map(|i| {
+            let a = std::f64::consts::TAU * i as f64 / 24.0;
+            px(c.x + 2.2 * a.cos(), c.y + 2.2 * a.sin())
+        })
+        .collect();
+    let unopened = cut(&g, &pts, &v, &through_all());
+    assert_eq!(
+        unopened.report.paths.len(),
+        1,
+        "{:?}",
+        unopened.report.paths
+    );
+    assert!(unopened.report.paths[0].closed);
+    check_paths_are_edges(&unopened);
+    let out = cut(&g, &pts, &v, &o);
+    check_valid(&g, &out);
+    let after = components(&out.mesh);
+    assert_eq!(after.len(), 2, "{after:?}");
+    assert_eq!(euler(&after), euler(&components(&g)));
+    let k = unopened.report.paths[0].vertices.len() as u32;
+    assert_eq!(out.mesh.vertex_count(), unopened.mesh.vertex_count() + k);
+}
+
+#[test]
+fn opening_a_loop_on_a_sphere_gives_two_disks() {
+    let s = icosphere(3);
+    let v = perspective(DVec3::new(0.0, 0.0, 4.0), DVec3::ZERO);
+    let pts: Vec<(f64, f64)> = (0..=30)
+        .map(|i| {
+            let a = std::f64::consts::TAU * i as f64 / 30.0;
+            (400.0 + 120.0 * a.cos(), 300.0 + 110.0 * a.sin())
+        })
+        .collect();
+    let mut o = CutOptions::default();
+    o.open = true;
+    let out = cut(&s, &pts, &v, &o);
+    check_valid(&s, &out);
+    let after = components(&out.mesh);
+    assert_eq!(after.len(), 2, "{after:?}");
+    for c in &after {
+        assert_eq!(c.0 - c.1 + c.2, 1, "each part is a disk");
+    }
+}
+
+// ---------------------------------------------------------------- determinism (T7)
+
+fn bits(out: &CutOutput) -> (Vec<[u64; 3]>, Vec<u32>, Vec<u32>) {
+    (
+        out.mesh
+            .positions()
+            .iter()
+            .map(|p| p.to_array().map(f64::to_bits))
+            .collect(),
+        out.mesh.corners().iter().map(|v| v.0).collect(),
+        out.face_origin.iter().map(|f| f.0).collect(),
+    )
+}
+
+#[test]
+fn one_thread_and_all_threads_give_the_same_bits() {
+    let s = icosphere(4);
+    let v = perspective(DVec3::new(0.5, 0.3, 3.0), DVec3::ZERO);
+    let pts: Vec<(f64, f64)> = (0..50)
+        .map(|i| {
+            (
+                150.0 + 10.0 * i as f64,
+                250.0 + 40.0 * (i as f64 * 0.2).sin(),
+            )
+        })
+        .collect();
+    for mode in [CutMode::VisibleOnly, CutMode::ThroughAll] {
+        let mut o = CutOptions::with_mode(mode);
+        o.open = true;
+        let one = rayon::ThreadPoolBuilder::new()
+            .num_threads(1)
+            .build()
+            .unwrap();
+        let a = one.install(|| cut(&s, &pts, &v, &o));
+        let b = cut(&s, &pts, &v, &o);
+        assert_eq!(bits(&a), bits(&b));
+        assert_eq!(a.report, b.report);
+    }
+}
+
+// ---------------------------------------------------------------- bad input
+
+#[test]
+fn bad_input_gets_typed_errors_and_the_mesh_is_untouched() {
+    let (g, v) = grid_scene();
+    let copy = g.clone();
+    let ok = stroke(&[px(1.0, 1.0), px(5.0, 5.0)]);
+    let o = CutOptions::default();
+    let err =
+        |m: &PolyMesh, s: &Stroke, v: &View, o: &CutOptions| cut_by_stroke(m, s, v, o).unwrap_err();
+
+    let e = err(&g, &stroke(&[px(1.0, 1.0)]), &v, &o);
+    assert!(matches!(e, Error::StrokeTooShort { points: 1, .. }), "{e}");
+    let e = err(
+        &g,
+        &stroke(&[px(1.0, 1.0), (px(1.0, 1.0).0 + 1.0, px(1.0, 1.0).1)]),
+        &v,
+        &o,
+    );
+    assert!(matches!(e, Error::StrokeTooShort { points: 1, .. }), "{e}");
+    let e = err(&g, &stroke(&[px(1.0, 1.0), (f64::NAN, 3.0)]), &v, &o);
+    assert!(
+        matches!(e, Error::NonFiniteStrokePoint { index: 1, .. }),
+        "{e}"
+    );
+    let bow = stroke(&[(10.0, 10.0), (100.0, 100.0), (100.0, 10.0), (10.0, 100.0)]);
+    let e = err(&g, &bow, &v, &o);
+    assert!(
+        matches!(
+            e,
+            Error::StrokeSelfIntersects {
+                first: 0,
+                second: 2
+            }
+        ),
+        "{e}"
+    );
+    let back = stroke(&[(10.0, 10.0), (100.0, 10.0), (50.0, 10.0)]);
+    let e = err(&g, &back, &v, &o);
+    assert!(
+        matches!(
+            e,
+            Error::StrokeSelfIntersects {
+                first: 0,
+                second: 1
+            }
+        ),
+        "{e}"
+    );
+
+    let mut sing = v;
+    sing.view_proj.z_axis = sing.view_proj.x_axis;
+    let e = err(&g, &ok, &sing, &o);
+    assert!(matches!(e, Error::SingularViewProjection { .. }), "{e}");
+    let mut nan = v;
+    nan.view_proj.w_axis.y = f64::INFINITY;
+    let e = err(&g, &ok, &nan, &o);
+    assert!(
+        matches!(
+            e,
+            Error::NonFiniteMatrixEntry {
+                column: 3,
+                row: 1,
+                ..
+            }
+        ),
+        "{e}"
+    );
+    let mut vp = v;
+    vp.viewport[2] = 0.0;
+    assert!(matches!(
+        err(&g, &ok, &vp, &o),
+        Error::InvalidViewport { .. }
+    ));
+    vp.viewport = [0.0, f64::NAN, 10.0, 10.0];
+    assert!(matches!(
+        err(&g, &ok, &vp, &o),
+        Error::InvalidViewport { .. }
+    ));
+
+    let with = |f: &dyn Fn(&mut CutOptions)| {
+        let mut x = o.clone();
+        f(&mut x);
+        x
+    };
+    for (name, bad) in [
+        ("snap_vertex_ratio", with(&|x| x.snap_vertex_ratio = -0.1)),
+        (
+            "snap_segment_ratio",
+            with(&|x| x.snap_segment_ratio = f64::NAN),
+        ),
+        ("corner_angle_deg", with(&|x| x.corner_angle_deg = 200.0)),
+        ("min_stroke_px", with(&|x| x.min_stroke_px = -1.0)),
+        ("depth_eps_rel", with(&|x| x.depth_eps_rel = f64::INFINITY)),
+    ] {
+        let e = err(&g, &ok, &v, &bad);
+        assert!(
+            matches!(e, Error::InvalidOption { option, .. } if option == name),
+            "{e}"
+        );
+    }
+    assert!(matches!(
+        err(&PolyMesh::new(), &ok, &v, &o),
+        Error::EmptyMesh { .. }
+    ));
+    assert_eq!(g, copy);
+}
+
+#[test]
+fn a_non_manifold_edge_under_the_stroke_is_an_error_and_elsewhere_is_not() {
+    // Grid plus a fin on edge (3,3)-(4,3): three faces share it.
+    let g = tri_grid(8, 8);
+    let mut p = g.positions().to_vec();
+    p.push(DVec3::new(3.5, 3.0, 1.0));
+    let fin = p.len() as u32 - 1;
+    let mut faces: Vec<Vec<u32>> = g
+        .faces()
+        .map(|f| g.face_outer(f).iter().map(|v| v.0).collect())
+        .collect();
+    faces.push(vec![3 * 9 + 3, 3 * 9 + 4, fin]);
+    let m = PolyMesh::from_polygons(p, faces).unwrap();
+    let v = top_view(-0.5, 8.5, -0.5, 8.5, 0.02);
+    let e = cut_by_stroke(
+        &m,
+        &stroke(&[px(1.2, 2.6), px(6.3, 3.4)]),
+        &v,
+        &through_all(),
+    )
+    .unwrap_err();
+    assert!(
+        matches!(
+            e,
+            Error::NonManifoldEdge {
+                a: 30,
+                b: 31,
+                uses: 3
+            }
+        ),
+        "{e}"
+    );
+    // A stroke far from the fin cuts.
+    let out = cut(&m, &[px(1.2, 6.6), px(6.3, 6.4)], &v, &through_all());
+    assert_eq!(out.report.paths.len(), 1);
+}
+
+// ---------------------------------------------------------------- fuzz findings
+
+/// Pixel position of grid point (i, j) · n / 20 in the integer-grid property's view.
+fn int_grid_stroke(n: u32, pts: &[(i32, i32)]) -> (PolyMesh, View, Vec<(f64, f64)>) {
+    let mesh = tri_grid(n, n);
+    let view = top_view(
+        -0.5,
+        n as f64 + 0.5,
+        -0.5,
+        n as f64 + 0.5,
+        (n as f64 + 1.0) / 400.0,
+    );
+    let px = pts
+        .iter()
+        .map(|&(i, j)| {
+            let s = screen(
+                &view,
+                DVec3::new(i as f64 * n as f64 / 20.0, j as f64 * n as f64 / 20.0, 0.0),
+            );
+            (s.x, s.y)
+        })
+        .collect();
+    (mesh, view, px)
+}
+
+#[test]
+fn regression_stroke_doubling_back_within_rounding_is_self_intersecting() {
+    // Segments 0 and 1 are collinear and opposite up to the matrix's rounding.
+    let (mesh, view, px) = int_grid_stroke(4, &[(9, 5), (4, 15), (8, 7), (0, 7), (8, 2)]);
+    let e = cut_by_stroke(&mesh, &stroke(&px), &view, &through_all()).unwrap_err();
+    assert!(
+        matches!(
+            e,
+            Error::StrokeSelfIntersects {
+                first: 0,
+                second: 1
+            }
+        ),
+        "{e}"
+    );
+}
+
+#[test]
+fn regression_corner_on_an_edge_gives_one_vertex() {
+    // The sharp corner (0.75, 4.75) lies on a diagonal up to rounding: the crossings just
+    // before and after it and the corner itself are one vertex, the paths joined there.
+    let (mesh, view, px) = int_grid_stroke(5, &[(7, 16), (9, 13), (3, 19), (4, 2)]);
+    let out = cut(&mesh, &px, &view, &through_all());
+    check_valid(&mesh, &out);
+    check_paths_are_edges(&out);
+    assert!(out.report.unjoined.is_empty());
+    let corner = DVec3::new(0.75, 4.75, 0.0);
+    let at_corner: Vec<u32> = (0..out.mesh.vertex_count())
+        .filter(|&v| (out.mesh.position(VertexId(v)) - corner).length() < 1e-9)
+        .collect();
+    assert_eq!(at_corner.len(), 1, "{at_corner:?}");
+}
+
+#[test]
+fn regression_chords_of_two_pieces_crossing_in_one_face_follow_edges() {
+    let (mesh, view, px) = int_grid_stroke(5, &[(7, 11), (0, 12), (9, 9)]);
+    let out = cut(&mesh, &px, &view, &through_all());
+    check_valid(&mesh, &out);
+    check_paths_are_edges(&out);
+    assert!(out.report.unjoined.is_empty());
+    assert_eq!(out.report.pieces, 2);
+}
+
+#[test]
+fn regression_piece_end_a_rounding_error_past_an_edge_adds_no_vertex() {
+    let (mesh, view, px) = int_grid_stroke(5, &[(4, 19), (1, 9)]);
+    let out = cut(&mesh, &px, &view, &through_all());
+    check_valid(&mesh, &out);
+    check_paths_are_edges(&out);
+    let r = inspect(&out.mesh).unwrap();
+    assert_eq!(r.unreferenced_vertices, 0);
+}
+
+#[test]
+fn regression_leaving_and_reentering_a_face_through_a_silhouette_crosses_it_once() {
+    // Visible-only on a coarse sphere: the stroke leaves a face over the silhouette and
+    // comes back into it; the two visible stretches are normalized as one array.
+    let s = icosphere(1);
+    let v = view_for(&s, false, 0.0, 0.0, 1.9319513657836547);
+    let pts = [
+        (267.1198930846732, 432.21717082034553),
+        (252.29653429071155, 414.4373772870179),
+        (231.95286113433153, 403.39256010751416),
+        (213.55204078229255, 389.3475312932231),
+        (204.07029508920232, 368.23001433137733),
+        (202.49289558226232, 345.1353215467183),
+        (211.41460657993426, 323.7751694663538),
+    ];
+    let mut o = CutOptions::default();
+    o.corner_angle_deg = 180.0;
+    let out = cut(&s, &pts, &v, &o);
+    check_valid(&s, &out);
+    for (f, n) in pieces_per_face(&out) {
+        assert!(n <= 4, "face {f} in {n} pieces");
+    }
+}
+
+// ---------------------------------------------------------------- properties
+
+/// Property-test cases: 96, or `KATACHI_CUT_CASES` for a longer fuzz.
+fn cases() -> u32 {
+    std::env::var("KATACHI_CUT_CASES")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(96)
+}
+
+#[derive(Debug, Clone)]
+enum Scene {
+    Grid { n: u32, perturb: f64, seed: u64 },
+    Sphere { levels: u32 },
+}
+
+fn scene_mesh(s: &Scene) -> PolyMesh {
+    match *s {
+        Scene::Grid { n, perturb, seed } => {
+            if perturb == 0.0 {
+                tri_grid(n, n)
+            } else {
+                perturbed_grid(n, n, perturb, seed)
+            }
+        }
+        Scene::Sphere { levels } => icosphere(levels),
+    }
+}
+
+fn scene_strategy() -> impl Strategy<Value = Scene> {
+    prop_oneof![
+        (
+            4u32..14,
+            prop_oneof![Just(0.0), 0.05f64..0.35],
+            any::<u64>()
+        )
+            .prop_map(|(n, perturb, seed)| Scene::Grid { n, perturb, seed }),
+        (1u32..4).prop_map(|levels| Scene::Sphere { levels }),
+    ]
+}
+
+/// A camera looking at the mesh's centre from a random direction: orthographic or perspective.
+fn view_for(mesh: &PolyMesh, ortho: bool, theta: f64, phi: f64, dist: f64) -> View {
+    let (lo, hi) = mesh.bounding_box().unwrap();
+    let c = (lo + hi) / 2.0;
+    let r = (hi - lo).length() / 2.0;
+    let dir = DVec3::new(phi.sin() * theta.cos(), phi.sin() * theta.sin(), phi.cos());
+    let eye = c + dir * r * dist;
+    let up = if dir.cross(DVec3::Y).length() < 1e-3 {
+        DVec3::X
+    } else {
+        DVec3::Y
+    };
+    let look = DMat4::look_at_rh(eye, c, up);
+    let proj = if ortho {
+        DMat4::orthographic_rh_gl(-r * 1.2, r * 1.2, -r * 0.9, r * 0.9, 0.01, 100.0 * r)
+    } else {
+        DMat4::perspective_rh_gl(50f64.to_radians(), 800.0 / 600.0, 0.01, 100.0 * r)
+    };
+    View::new(proj * look, [0.0, 0.0, 800.0, 600.0])
+}
+
+/// A smooth random stroke: a walk with bounded turning.
+fn stroke_strategy() -> impl Strategy<Value = Vec<(f64, f64)>> {
+    (
+        (250.0f64..550.0, 180.0f64..420.0),
+        0.0f64..std::f64::consts::TAU,
+        prop::collection::vec(-0.5f64..0.5, 2..30),
+        5.0f64..60.0,
+    )
+        .prop_map(|((x, y), a0, turns, step)| {
+            let mut p = vec![(x, y)];
+            let mut a = a0;
+            for t in turns {
+                a += t;
+                let (px, py) = *p.last().unwrap();
+                p.push((px + step * a.cos(), py + step * a.sin()));
+            }
+            p
+        })
+}
+
+fn run(mesh: &PolyMesh, pts: &[(f64, f64)], view: &View, o: &CutOptions) -> Option<CutOutput> {
+    match cut_by_stroke(mesh, &stroke(pts), view, o) {
+        Ok(out) => Some(out),
+        Err(Error::StrokeSelfIntersects { .. }) => None,
+        Err(e) => panic!("unexpected error {e}"),
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: cases(), max_global_rejects: 1_000_000, ..ProptestConfig::default() })]
+
+    #[test]
+    fn cut_invariants(
+        scene in scene_strategy(),
+        ortho in any::<bool>(),
+        theta in 0.0f64..std::f64::consts::TAU,
+        phi in 0.0f64..1.2,
+        dist in 1.5f64..4.0,
+        pts in stroke_strategy(),
+        visible in any::<bool>(),
+    ) {
+        let mesh = scene_mesh(&scene);
+        let view = view_for(&mesh, ortho, theta, phi, dist);
+        let mut o = CutOptions::with_mode(if visible { CutMode::VisibleOnly } else { CutMode::ThroughAll });
+        o.corner_angle_deg = 180.0;
+        let copy = mesh.clone();
+        let Some(out) = run(&mesh, &pts, &view, &o) else { return Ok(()) };
+        prop_assert_eq!(&mesh, &copy);
+        check_valid(&mesh, &out);
+        check_paths_are_edges(&out);
+        prop_assert!(out.report.unjoined.is_empty(), "{:?}", out.report.unjoined);
+        // One piece: no chord can cross another path.
+        prop_assert!(out.report.rerouted.is_empty(), "{:?}", out.report.rerouted);
+        // Euler characteristic unchanged (not opened).
+        prop_assert_eq!(euler(&components(&out.mesh)), euler(&components(&mesh)));
+        // Path vertices lie on the stroke.
+        let stroke_px: Vec<DVec2> = pts.iter().map(|&(x, y)| DVec2::new(x, y)).collect();
+        // (A path's ends may have moved onto an edge, up to a third of the snap distance.)
+        let end_reach = o.snap_segment_ratio * out.report.mean_edge_length_px / 3.0;
+        for p in &out.report.paths {
+            for (k, &x) in p.vertices.iter().enumerate() {
+                let s = screen(&view, out.mesh.position(x));
+                let tol = if k == 0 || k + 1 == p.vertices.len() { end_reach } else { 0.0 };
+                prop_assert!(dist_to_polyline(s, &stroke_px) <= tol + 1e-6 * (1.0 + s.length()), "path vertex {} off the stroke", x);
+            }
+        }
+        // Split bound: ≤ 3 pieces per path crossing the face (through all sheets a stroke can
+        // pass over one face on two chains), one more per stroke end in the face or within the
+        // reach of an end moved onto one of its edges.
+        let ends: Vec<DVec2> = vec![stroke_px[0], *stroke_px.last().unwrap()];
+        let out_tris = faces_of(&out.mesh);
+        let mut chains_in: BTreeMap<FaceId, BTreeSet<usize>> = BTreeMap::new();
+        for (pi, p) in out.report.paths.iter().enumerate() {
+            for w in p.vertices.windows(2) {
+                for (i, t) in out_tris.iter().enumerate() {
+                    if t.contains(&w[0].0) && t.contains(&w[1].0) {
+                        chains_in.entry(out.face_origin[i]).or_default().insert(pi);
+                    }
+                }
+            }
+        }
+        for (f, n) in pieces_per_face(&out) {
+            let chains = chains_in.get(&f).map_or(0, |c| c.len()).max(1) as u32;
+            // The face as snapping left it (its corners may have moved).
+            let c: Vec<DVec2> = mesh.face_outer(f).iter().map(|&q| screen(&view, out.mesh.position(q))).collect();
+            let inside = ends.iter().filter(|&&e| {
+                let o1 = (c[1] - c[0]).perp_dot(e - c[0]);
+                let o2 = (c[2] - c[1]).perp_dot(e - c[1]);
+                let o3 = (c[0] - c[2]).perp_dot(e - c[2]);
+                let within = (o1 >= 0.0 && o2 >= 0.0 && o3 >= 0.0) || (o1 <= 0.0 && o2 <= 0.0 && o3 <= 0.0);
+                within || (0..3).any(|i| dist_to_polyline(e, &[c[i], c[(i + 1) % 3]]) <= end_reach * (1.0 + 1e-9))
+            }).count() as u32;
+            prop_assert!(n <= 1 + 2 * chains + inside, "face {} in {} pieces ({} ends inside, {} chains)", f, n, inside, chains);
+        }
+        check_moves(&mesh, &view, &out, &o);
+        if visible {
+            check_front_only(&mesh, &view, &out);
+        }
+        // No near-duplicates: a new vertex is at least the snap distance from every unmoved,
+        // unrefused input vertex it shares an edge with (less the reach of a moved end).
+        let path_ends: BTreeSet<u32> = out.report.paths.iter().flat_map(|p| [p.vertices[0].0, p.vertices[p.vertices.len() - 1].0]).collect();
+        let l = out.report.mean_edge_length_px;
+        let reach = o.snap_segment_ratio.min(o.snap_vertex_ratio) * l;
+        let moved: BTreeSet<u32> = out.report.moved.iter().map(|m| m.vertex.0).collect();
+        let refused: BTreeSet<u32> = out.report.snaps_refused.iter().map(|v| v.0).collect();
+        let nv = mesh.vertex_count();
+        if !visible {
+            for (a, b) in edge_set(&out.mesh) {
+                let (old, new) = if a < nv && b >= nv { (a, b) } else if b < nv && a >= nv { (b, a) } else { continue };
+                if moved.contains(&old) || refused.contains(&old) {
+                    continue;
+                }
+                let d = (screen(&view, out.mesh.position(VertexId(old))) - screen(&view, out.mesh.position(VertexId(new)))).length();
+                let need = if path_ends.contains(&new) { reach - end_reach } else { reach };
+                prop_assert!(d >= need * (1.0 - 1e-6), "new vertex {} is {} px from vertex {} (snap distance {})", new, d, old, reach);
+            }
+        }
+    }
+
+    #[test]
+    fn opening_changes_euler_as_expected(
+        n in 5u32..12,
+        perturb in 0.0f64..0.3,
+        seed in any::<u64>(),
+        pts in stroke_strategy(),
+    ) {
+        let mesh = perturbed_grid(n, n, perturb, seed);
+        let view = view_for(&mesh, true, 0.0, 0.0, 3.0);
+        let mut o = through_all();
+        o.corner_angle_deg = 180.0;
+        let Some(plain) = run(&mesh, &pts, &view, &o) else { return Ok(()) };
+        o.open = true;
+        let opened = run(&mesh, &pts, &view, &o).unwrap();
+        check_valid(&mesh, &opened);
+        let (before, after) = (components(&plain.mesh), components(&opened.mesh));
+        // Per path: a slit (ends inside) lowers χ by 1; boundary-to-boundary raises it by 1
+        // (a new component); a path with one end on the boundary keeps it.
+        let boundary: BTreeSet<u32> = {
+            let mut uses: BTreeMap<(u32, u32), u32> = BTreeMap::new();
+            for t in faces_of(&plain.mesh) {
+                for i in 0..3 {
+                    let (a, b) = (t[i], t[(i + 1) % 3]);
+                    *uses.entry((a.min(b), a.max(b))).or_default() += 1;
+                }
+            }
+            uses.iter().filter(|(_, &u)| u == 1).flat_map(|(&(a, b), _)| [a, b]).collect()
+        };
+        let mut expected = euler(&before);
+        let paths = &plain.report.paths;
+        // Only simple cases: one path.
+        prop_assume!(paths.len() == 1 && !paths[0].closed);
+        let p = &paths[0].vertices;
+        let ends_on_boundary = [p[0], *p.last().unwrap()].iter().filter(|v| boundary.contains(&v.0)).count();
+        let interior_on_boundary = p[1..p.len() - 1].iter().any(|v| boundary.contains(&v.0));
+        prop_assume!(!interior_on_boundary);
+        let along_boundary = p.windows(2).any(|w| boundary.contains(&w[0].0) && boundary.contains(&w[1].0));
+        prop_assume!(!along_boundary);
+        // A one-edge slit between two interior vertices cannot open (no vertex to split).
+        prop_assume!(ends_on_boundary > 0 || p.len() >= 3);
+        expected += match ends_on_boundary { 0 => -1, 1 => 0, _ => 1 };
+        prop_assert_eq!(euler(&after), expected, "path {:?}", p);
+        prop_assert_eq!(after.len() as i64 - before.len() as i64, if ends_on_boundary == 2 { 1 } else { 0 });
+    }
+
+    #[test]
+    fn integer_grids_with_strokes_through_vertices(
+        n in 3u32..10,
+        pts in prop::collection::vec((0i32..=20, 0i32..=20), 2..8),
+        visible in any::<bool>(),
+    ) {
+        // Stroke points on vertices, edge midpoints and face centres of an integer grid.
+        let mesh = tri_grid(n, n);
+        let view = top_view(-0.5, n as f64 + 0.5, -0.5, n as f64 + 0.5, (n as f64 + 1.0) / 400.0);
+        let px: Vec<(f64, f64)> = pts.iter().map(|&(i, j)| {
+            let (x, y) = (i as f64 * n as f64 / 20.0, j as f64 * n as f64 / 20.0);
+            let s = screen(&view, DVec3::new(x, y, 0.0));
+            (s.x, s.y)
+        }).collect();
+        let o = CutOptions::with_mode(if visible { CutMode::VisibleOnly } else { CutMode::ThroughAll });
+        let out = match cut_by_stroke(&mesh, &stroke(&px), &view, &o) {
+            Ok(out) => out,
+            Err(Error::StrokeSelfIntersects { .. } | Error::StrokeTooShort { .. }) => return Ok(()),
+            Err(e) => panic!("{e}"),
+        };
+        check_valid(&mesh, &out);
+        check_paths_are_edges(&out);
+        prop_assert!(out.report.unjoined.is_empty());
+        prop_assert_eq!(euler(&components(&out.mesh)), euler(&components(&mesh)));
+    }
+}

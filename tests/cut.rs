@@ -30,7 +30,8 @@ fn tri_grid(m: u32, n: u32) -> PolyMesh {
     PolyMesh::from_polygons(p, f).unwrap()
 }
 
-/// `tri_grid` with each interior vertex moved by up to `amount` in x and y (deterministic).
+/// `tri_grid` with each interior vertex moved by up to `amount` in x and y and up to
+/// min(amount, 0.2) in z (deterministic).
 fn perturbed_grid(m: u32, n: u32, amount: f64, seed: u64) -> PolyMesh {
     let g = tri_grid(m, n);
     let mut s = seed
@@ -49,7 +50,7 @@ fn perturbed_grid(m: u32, n: u32, amount: f64, seed: u64) -> PolyMesh {
             let interior = q.x > 0.0 && q.y > 0.0 && q.x < m as f64 && q.y < n as f64;
             let (dx, dy, dz) = (rnd(), rnd(), rnd());
             if interior {
-                q + DVec3::new(dx * amount, dy * amount, dz * 0.2)
+                q + DVec3::new(dx * amount, dy * amount, dz * amount.min(0.2))
             } else {
                 q
             }
@@ -907,6 +908,36 @@ fn opening_a_closed_loop_cuts_out_a_disk() {
 }
 
 #[test]
+fn a_square_loop_is_four_pieces_and_opens_a_disk() {
+    // Four sharp corners: four pieces, each path ending where the next begins.
+    let (g, v) = grid_scene();
+    let pts = [
+        px(2.3, 2.4),
+        px(5.6, 2.3),
+        px(5.7, 5.6),
+        px(2.4, 5.7),
+        px(2.3, 2.4),
+    ];
+    let plain = cut(&g, &pts, &v, &through_all());
+    check_valid(&g, &plain);
+    check_paths_are_edges(&plain);
+    assert_eq!(plain.report.pieces, 4);
+    let paths = &plain.report.paths;
+    assert_eq!(paths.len(), 4, "{paths:?}");
+    for k in 0..4 {
+        let (a, b) = (&paths[k].vertices, &paths[(k + 1) % 4].vertices);
+        assert_eq!(a.last(), b.first(), "pieces {k} and {} meet", (k + 1) % 4);
+    }
+    let mut o = through_all();
+    o.open = true;
+    let out = cut(&g, &pts, &v, &o);
+    check_valid(&g, &out);
+    let after = components(&out.mesh);
+    assert_eq!(after.len(), 2, "{after:?}");
+    assert_eq!(euler(&after), euler(&components(&g)));
+}
+
+#[test]
 fn opening_a_loop_on_a_sphere_gives_two_disks() {
     let s = icosphere(3);
     let v = perspective(DVec3::new(0.0, 0.0, 4.0), DVec3::ZERO);
@@ -1247,7 +1278,7 @@ fn scene_strategy() -> impl Strategy<Value = Scene> {
     prop_oneof![
         (
             4u32..14,
-            prop_oneof![Just(0.0), 0.05f64..0.35],
+            prop_oneof![Just(0.0), Just(1e-15), 0.05f64..0.35],
             any::<u64>()
         )
             .prop_map(|(n, perturb, seed)| Scene::Grid { n, perturb, seed }),
@@ -1370,6 +1401,20 @@ proptest! {
             }).count() as u32;
             prop_assert!(n <= 1 + 2 * chains + inside, "face {} in {} pieces ({} ends inside, {} chains)", f, n, inside, chains);
         }
+        // T4: every piece turns the way its face does on screen (no flipped triangle).
+        for (i, t) in out_tris.iter().enumerate() {
+            let f = out.face_origin[i];
+            let orig: Vec<u32> = mesh.face_outer(f).iter().map(|v| v.0).collect();
+            let sign = |c: &[u32]| -> Option<f64> {
+                let s: Option<Vec<DVec2>> = c.iter().map(|&q| project(&view, out.mesh.position(VertexId(q))).map(|x| x.0)).collect();
+                let s = s?;
+                Some((s[1] - s[0]).perp_dot(s[2] - s[0]))
+            };
+            if let (Some(a), Some(b)) = (sign(t), sign(&orig)) {
+                let tiny = 1e-9 * (1.0 + b.abs());
+                prop_assert!(a * b >= 0.0 || a.abs() < tiny || b.abs() < tiny, "face {:?} of {} is flipped ({} vs {})", t, f, a, b);
+            }
+        }
         check_moves(&mesh, &view, &out, &o);
         if visible {
             check_front_only(&mesh, &view, &out);
@@ -1438,6 +1483,58 @@ proptest! {
         expected += match ends_on_boundary { 0 => -1, 1 => 0, _ => 1 };
         prop_assert_eq!(euler(&after), expected, "path {:?}", p);
         prop_assert_eq!(after.len() as i64 - before.len() as i64, if ends_on_boundary == 2 { 1 } else { 0 });
+    }
+
+    #[test]
+    fn opening_a_closed_loop_keeps_euler_and_cuts_out_a_disk(
+        n in 8u32..14,
+        perturb in prop_oneof![Just(0.0), 0.0f64..0.3],
+        seed in any::<u64>(),
+        centre in (0.35f64..0.65, 0.35f64..0.65),
+        radius in 0.12f64..0.3,
+        sides in 6usize..40,
+        phase in 0.0f64..1.0,
+        wobble in 0.0f64..0.1,
+    ) {
+        // A closed stroke well inside the grid (a polygon, wobbly), seen from above.
+        let mesh = perturbed_grid(n, n, perturb, seed);
+        let view = top_view(-0.5, n as f64 + 0.5, -0.5, n as f64 + 0.5, (n as f64 + 1.0) / 600.0);
+        let c = DVec2::new(centre.0, centre.1) * n as f64;
+        let r = radius * n as f64;
+        // At least a unit from the boundary, so snapping cannot pull a boundary vertex in
+        // (a loop through the boundary is not a closed cut of a disk).
+        let reach = r * (1.0 + wobble);
+        prop_assume!(c.min_element() - reach >= 1.0 && c.max_element() + reach <= n as f64 - 1.0);
+        let mut pts: Vec<(f64, f64)> = (0..sides)
+            .map(|i| {
+                let a = std::f64::consts::TAU * (i as f64 + phase) / sides as f64;
+                let rr = r * (1.0 + wobble * (3.0 * a).sin());
+                let s = screen(&view, DVec3::new(c.x + rr * a.cos(), c.y + rr * a.sin(), 0.0));
+                (s.x, s.y)
+            })
+            .collect();
+        pts.push(pts[0]);
+        let mut o = through_all();
+        let plain = cut(&mesh, &pts, &view, &o);
+        check_valid(&mesh, &plain);
+        check_paths_are_edges(&plain);
+        prop_assert!(plain.report.unjoined.is_empty());
+        // A loop about one face across can normalize to a single edge there and back.
+        prop_assume!(plain.report.paths.len() == 1 && plain.report.paths[0].closed);
+        o.open = true;
+        let opened = cut(&mesh, &pts, &view, &o);
+        check_valid(&mesh, &opened);
+        let (before, after) = (components(&plain.mesh), components(&opened.mesh));
+        // T5 (c): a closed loop of k vertices: V += k, E += k, χ unchanged, one more part.
+        prop_assert_eq!(euler(&after), euler(&before));
+        prop_assert_eq!(after.len(), before.len() + 1, "{:?}", plain.report.paths);
+        let k: usize = {
+            let mut v: Vec<u32> = plain.report.paths.iter().flat_map(|p| p.vertices.iter().map(|x| x.0)).collect();
+            v.sort_unstable();
+            v.dedup();
+            v.len()
+        };
+        prop_assert_eq!(opened.mesh.vertex_count() as usize, plain.mesh.vertex_count() as usize + k);
     }
 
     #[test]

@@ -457,7 +457,14 @@ pub fn cut_by_stroke(
         && report.paths[1].piece == 1
     {
         let (a, b) = (&report.paths[0].vertices, &report.paths[1].vertices);
-        if a.last() == b.first() && b.last() == a.first() && a.len() >= 2 && b.len() >= 2 {
+        // Joined, the halves must enclose something: at least three distinct vertices.
+        let distinct = {
+            let mut v: Vec<VertexId> = a.iter().chain(b.iter()).copied().collect();
+            v.sort_unstable();
+            v.dedup();
+            v.len()
+        };
+        if a.last() == b.first() && b.last() == a.first() && distinct >= 3 {
             let mut joined = a.clone();
             joined.extend_from_slice(&b[1..b.len() - 1]);
             report.paths = vec![CutPath {

@@ -292,19 +292,7 @@ pub(crate) fn elem_depth(region: &Region, o: &Occ) -> (f64, DVec3) {
                 region.pos[a as usize].lerp(region.pos[b as usize], t),
             )
         }
-        Elem::P { face, .. } => {
-            let t = region.tri[face as usize];
-            let seen = t.map(|v| region.seen[v as usize].unwrap());
-            let l = o.bary;
-            let z = l[0] * seen[0].z + l[1] * seen[1].z + l[2] * seen[2].z;
-            let m = [l[0] / seen[0].w, l[1] / seen[1].w, l[2] / seen[2].w];
-            let sum = m[0] + m[1] + m[2];
-            let x = (region.pos[t[0] as usize] * m[0]
-                + region.pos[t[1] as usize] * m[1]
-                + region.pos[t[2] as usize] * m[2])
-                / sum;
-            (z, x)
-        }
+        Elem::P { face, .. } => region.lift(face, o.bary),
     }
 }
 

@@ -110,20 +110,10 @@ impl FaceBuckets {
             if in_triangle(a, b, cc, r.sign[lf as usize], s).is_none() {
                 continue;
             }
-            let t = r.tri[lf as usize];
-            let l = barycentric(a, b, cc, s);
-            let seen = t.map(|v| r.seen[v as usize].expect("projectable"));
-            // NDC depth is affine on screen; world position is perspective-correct (1/w).
-            let zf = l[0] * seen[0].z + l[1] * seen[1].z + l[2] * seen[2].z;
+            let (zf, y) = r.lift(lf, barycentric(a, b, cc, s));
             if zf >= z {
                 continue;
             }
-            let m = [l[0] / seen[0].w, l[1] / seen[1].w, l[2] / seen[2].w];
-            let sum = m[0] + m[1] + m[2];
-            let y = (r.pos[t[0] as usize] * m[0]
-                + r.pos[t[1] as usize] * m[1]
-                + r.pos[t[2] as usize] * m[2])
-                / sum;
             if (y - x).length() > self.eps_world {
                 return true;
             }

@@ -99,23 +99,7 @@ fn main() {
 
     // The shim is always optimised: OpenMesh's subdivider is header-only template code, and the
     // crate exists to be compared against, including in benchmarks.
-    let mut build = cc::Build::new();
-    build
-        .cpp(true)
-        .std("c++17")
-        .opt_level(2)
-        .include("shim")
-        .warnings(true)
-        .extra_warnings(true)
-        // OpenMesh 9's VectorT leaves its default-constructed storage uninitialised on purpose.
-        .flag_if_supported("-Wno-maybe-uninitialized")
-        .define("NDEBUG", None)
-        .files(SHIM_SOURCES);
-    for d in &include_dirs {
-        if !is_default_include(d) {
-            build.include(d);
-        }
-    }
+    let build = shim_build(&include_dirs, SHIM_SOURCES);
     if let Err(e) = build.try_compile("katachi_reference_shim") {
         fail(&format!(
             "compiling the C++ shim failed: {e}\n\
@@ -126,22 +110,9 @@ fn main() {
     }
 
     // The exact stroke cut: CGAL is header-only (5.x) and uses GMP and MPFR, linked below.
-    let mut cgal = cc::Build::new();
-    cgal.cpp(true)
-        .std("c++17")
-        .opt_level(2)
-        .include("shim")
-        .warnings(true)
-        .extra_warnings(true)
-        .flag_if_supported("-Wno-maybe-uninitialized")
-        .flag_if_supported("-frounding-math")
-        .define("NDEBUG", None)
-        .files(CGAL_SOURCES);
-    for d in &include_dirs {
-        if !is_default_include(d) {
-            cgal.include(d);
-        }
-    }
+    // CGAL needs -frounding-math with GCC; kept out of the code the benchmarks time.
+    let mut cgal = shim_build(&include_dirs, CGAL_SOURCES);
+    cgal.flag_if_supported("-frounding-math");
     if let Err(e) = cgal.try_compile("katachi_reference_cgal") {
         fail(&format!(
             "compiling the CGAL part of the shim (shim/cgal_cut.cpp) failed: {e}\n\
@@ -244,4 +215,26 @@ fn is_default_lib(d: &Path) -> bool {
     s == "/usr/lib" || s == "/lib" || s == "/usr/local/lib" || {
         (s.starts_with("/usr/lib/") || s.starts_with("/lib/")) && s.contains("-linux-")
     }
+}
+
+/// A C++17 build of shim sources, optimised, with the found library include directories.
+fn shim_build(include_dirs: &[PathBuf], sources: &[&str]) -> cc::Build {
+    let mut build = cc::Build::new();
+    build
+        .cpp(true)
+        .std("c++17")
+        .opt_level(2)
+        .include("shim")
+        .warnings(true)
+        .extra_warnings(true)
+        // OpenMesh 9's VectorT leaves its default-constructed storage uninitialised on purpose.
+        .flag_if_supported("-Wno-maybe-uninitialized")
+        .define("NDEBUG", None)
+        .files(sources);
+    for d in include_dirs {
+        if !is_default_include(d) {
+            build.include(d);
+        }
+    }
+    build
 }

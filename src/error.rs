@@ -137,6 +137,12 @@ pub enum Error {
         viewport: [f64; 4],
         reason: &'static str,
     },
+    /// A cut would split more triangles than `CutOptions::max_faces_split` allows (stroke cut;
+    /// a guard for interactive tools against a stroke drawn over far more than meant).
+    #[error(
+        "the cut would split {split_faces} faces, more than the limit of {limit} (max_faces_split)"
+    )]
+    CutTooLarge { split_faces: u32, limit: u32 },
     /// An argument is invalid (used by the C ABI and the CLI for things that are not mesh data).
     #[error("{0}")]
     InvalidArgument(String),

@@ -1563,3 +1563,25 @@ proptest! {
         prop_assert_eq!(euler(&components(&out.mesh)), euler(&components(&mesh)));
     }
 }
+
+#[test]
+fn max_faces_split_refuses_a_larger_cut_and_allows_its_own_size() {
+    let (g, v) = grid_scene();
+    let pts = [px(0.3, 1.2), px(7.6, 6.3)];
+    let full = cut(&g, &pts, &v, &through_all());
+    let n = full.report.split_faces;
+    assert!(n > 2, "the stroke splits several faces ({n})");
+    let mut o = through_all();
+    o.max_faces_split = n;
+    let same = cut(&g, &pts, &v, &o);
+    assert_eq!(same.report.split_faces, n);
+    o.max_faces_split = n - 1;
+    let before = g.clone();
+    match cut_by_stroke(&g, &stroke(&pts), &v, &o) {
+        Err(Error::CutTooLarge { split_faces, limit }) => {
+            assert_eq!((split_faces, limit), (n, n - 1));
+        }
+        other => panic!("expected CutTooLarge, got {other:?}"),
+    }
+    assert_eq!(g, before);
+}

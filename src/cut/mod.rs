@@ -376,6 +376,18 @@ pub fn cut_by_stroke(
     cut_edges.dedup();
     sp.improve(&|a, b| cut_edges.binary_search(&(a.min(b), a.max(b))).is_ok());
 
+    let split_faces = sp
+        .touched
+        .iter()
+        .filter(|&&lf| sp.subs[lf as usize].as_ref().is_some_and(|s| s.len() > 1))
+        .count() as u32;
+    if split_faces > options.max_faces_split {
+        return Err(crate::Error::CutTooLarge {
+            split_faces,
+            limit: options.max_faces_split,
+        });
+    }
+
     let copies_of = if options.open && !cut_edges.is_empty() {
         let mut pv: Vec<u32> = paths.iter().flat_map(|p| p.verts.iter().copied()).collect();
         pv.sort_unstable();
@@ -408,11 +420,7 @@ pub fn cut_by_stroke(
         pieces: pieces.len() as u32,
         new_vertices: sp.new_pos.len() as u32,
         new_faces: out.appended_faces,
-        split_faces: sp
-            .touched
-            .iter()
-            .filter(|&&lf| sp.subs[lf as usize].as_ref().is_some_and(|s| s.len() > 1))
-            .count() as u32,
+        split_faces,
         mean_edge_length_px: l_px,
         mean_edge_length_world: l_world,
         ..Default::default()

@@ -43,6 +43,10 @@ pub struct CutOptions {
     /// than this × the diagonal of the cut region's bounding box (gap-fill, spec §3).
     /// Default value: `1e-4` (spec §1).
     pub depth_eps_rel: f64,
+    /// Refuse a cut that would split more than this many triangles, with
+    /// [`crate::Error::CutTooLarge`] and nothing changed (spec §1; a guard for interactive tools).
+    /// Default value: `u32::MAX` (no limit).
+    pub max_faces_split: u32,
 }
 
 impl Default for CutOptions {
@@ -55,6 +59,7 @@ impl Default for CutOptions {
             corner_angle_deg: 60.0,
             min_stroke_px: 2.0,
             depth_eps_rel: 1e-4,
+            max_faces_split: u32::MAX,
         }
     }
 }

@@ -1585,3 +1585,97 @@ fn max_faces_split_refuses_a_larger_cut_and_allows_its_own_size() {
     }
     assert_eq!(g, before);
 }
+
+/// Snapping off: no vertex moves, so data linear in the positions must come out equal to the
+/// output positions' function exactly (to rounding).
+fn no_snap(mode: CutMode) -> CutOptions {
+    let mut o = CutOptions::with_mode(mode);
+    o.snap_vertex_ratio = 0.0;
+    o.snap_segment_ratio = 0.0;
+    o
+}
+
+#[test]
+fn corner_data_is_linear_inside_each_source_face() {
+    // Quads (triangulated first), data per corner that jumps between faces (a UV seam on
+    // every edge): (x, y) + 10 · face.
+    let g = shapes::grid(8, 8);
+    let v = top_view(-0.5, 8.5, -0.5, 8.5, 0.02);
+    let gr = &g;
+    let values: Vec<f64> = g
+        .faces()
+        .flat_map(|f| {
+            gr.face_outer(f)
+                .iter()
+                .flat_map(move |&c| {
+                    let p = gr.position(c);
+                    [p.x + 10.0 * f.0 as f64, p.y]
+                })
+                .collect::<Vec<_>>()
+        })
+        .collect();
+    for open in [false, true] {
+        let mut o = no_snap(CutMode::ThroughAll);
+        o.open = open;
+        let out = cut(&g, &[px(0.3, 1.2), px(4.1, 3.3), px(7.6, 6.3)], &v, &o);
+        assert!(out.report.new_vertices > 4);
+        let data = out.interpolate_corner_data(&g, &values, 2).unwrap();
+        assert_eq!(data.len(), 2 * out.mesh.corner_count() as usize);
+        for (t, f) in out.face_origin.iter().enumerate() {
+            for k in 0..3 {
+                let p = out.mesh.position(out.mesh.corners()[3 * t + k]);
+                let (u, w) = (data[2 * (3 * t + k)], data[2 * (3 * t + k) + 1]);
+                assert!(
+                    (u - (p.x + 10.0 * f.0 as f64)).abs() < 1e-9 && (w - p.y).abs() < 1e-9,
+                    "face {t} corner {k}: ({u}, {w}) at {p}, source face {f:?}"
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn vertex_data_follows_split_vertices_and_opening_copies() {
+    let (g, v) = grid_scene();
+    let values: Vec<f64> = g.positions().iter().flat_map(|p| [p.x, p.y, p.z]).collect();
+    let mut o = no_snap(CutMode::ThroughAll);
+    o.open = true;
+    let out = cut(&g, &[px(0.3, 1.2), px(4.1, 3.3), px(7.6, 6.3)], &v, &o);
+    assert!(out.mesh.vertex_count() > g.vertex_count());
+    let data = out.interpolate_vertex_data(&g, &values, 3).unwrap();
+    for (i, p) in out.mesh.positions().iter().enumerate() {
+        let d = DVec3::new(data[3 * i], data[3 * i + 1], data[3 * i + 2]);
+        assert!((d - *p).length() < 1e-9, "vertex {i}: {d} vs {p}");
+    }
+    // With snapping, moved vertices keep their own values.
+    let out = cut(
+        &g,
+        &[px(0.3, 1.2), px(4.1, 3.3), px(7.6, 6.3)],
+        &v,
+        &through_all(),
+    );
+    let data = out.interpolate_vertex_data(&g, &values, 3).unwrap();
+    for m in &out.report.moved {
+        let i = m.vertex.idx();
+        assert_eq!(&data[3 * i..3 * i + 3], &values[3 * i..3 * i + 3]);
+    }
+}
+
+#[test]
+fn interpolation_rejects_data_of_the_wrong_size_or_mesh() {
+    let (g, v) = grid_scene();
+    let out = cut(&g, &[px(0.3, 1.2), px(7.6, 6.3)], &v, &through_all());
+    let n = g.corner_count() as usize;
+    for (values, dim) in [(vec![0.0; 2 * n - 1], 2), (vec![0.0; 0], 0)] {
+        assert!(matches!(
+            out.interpolate_corner_data(&g, &values, dim),
+            Err(Error::InvalidArgument(_))
+        ));
+    }
+    let other = tri_grid(3, 3);
+    let vals = vec![0.0; other.vertex_count() as usize];
+    assert!(matches!(
+        out.interpolate_vertex_data(&other, &vals, 1),
+        Err(Error::InvalidArgument(_))
+    ));
+}

@@ -17,6 +17,10 @@ pub(crate) struct Assembled {
     /// Output id of each local vertex (region vertices, then new ones).
     pub global: Vec<u32>,
     pub appended_faces: u32,
+    /// Source triangle of each appended face.
+    pub appended_from: Vec<u32>,
+    /// Slots whose triangle was rewritten, ascending.
+    pub rewritten: Vec<u32>,
 }
 
 /// `positions`: a copy of `tris`'s positions (made by the vertex pass, which reads them
@@ -78,6 +82,11 @@ pub(crate) fn assemble(
             }
         }
     }
+    let mut rewritten: Vec<u32> = touched
+        .iter()
+        .map(|&lf| region.faces[lf as usize])
+        .collect();
+    rewritten.sort_unstable();
     let mut face_loop_offsets: Vec<u32> = mem::with_capacity(nf_out + 1);
     face_loop_offsets.par_extend((0..nf_out as u32 + 1).into_par_iter());
     let mut loop_offsets: Vec<u32> = mem::with_capacity(nf_out + 1);
@@ -106,6 +115,8 @@ pub(crate) fn assemble(
         face_origin,
         global,
         appended_faces: appended_from.len() as u32,
+        appended_from,
+        rewritten,
     }
 }
 

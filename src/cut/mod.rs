@@ -63,6 +63,7 @@ mod assemble;
 mod candidates;
 mod crossings;
 mod geom;
+mod interpolate;
 mod normalize;
 mod open;
 mod options;
@@ -519,10 +520,23 @@ pub fn cut_by_stroke(
         &buckets,
         visible_only,
     );
+    let first_copy = tm.vertex_count() + split_count as u32;
+    let provenance = interpolate::Provenance {
+        tri_count: tm.face_count(),
+        input_vertices: mesh.vertex_count(),
+        appended_from: out.appended_from,
+        rewritten: out.rewritten,
+        first_copy,
+        copy_of: copies_of
+            .iter()
+            .map(|&lv| out.global[lv as usize])
+            .collect(),
+    };
     Ok(CutOutput {
         mesh: out.mesh,
         face_origin: out.face_origin,
         report,
+        provenance,
     })
 }
 

@@ -17,6 +17,8 @@ pub struct CutOutput {
     pub face_origin: Vec<FaceId>,
     /// What was done.
     pub report: CutReport,
+    /// Where each output face and vertex comes from, for [`CutOutput::interpolate_corner_data`].
+    pub(crate) provenance: super::interpolate::Provenance,
 }
 
 /// A model vertex moved onto the stroke (seed 002 §3.2, Fig. 4).

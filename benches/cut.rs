@@ -1,6 +1,7 @@
 //! Stroke cut (seed 002, issue 5): the cut's time against the floor, one projection pass over
 //! all vertices (view-projection, divide, viewport into a fresh screen array), and against a
-//! clone of the mesh (the cost of any function returning a new mesh), in one run.
+//! clone of the mesh (the cost of any function returning a new mesh), in one run; and
+//! `cut_edits`, the same cut returned as edits (no new mesh built).
 //! Goal: ≤ 3 × the floor on 1M triangles with a 50-point stroke. Meshes: triangulated tori of
 //! 10k, 100k and 1M triangles, and the shared `spot_quadrangulated.obj` subdivided 4 times and
 //! triangulated (1.5M triangles). Both modes; all cores (the machine has 2). A table of
@@ -10,7 +11,7 @@ use std::time::{Duration, Instant};
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
 use glam::{DMat4, DVec2, DVec3};
-use katachi::cut::{cut_by_stroke, CutMode, CutOptions, Stroke, View};
+use katachi::cut::{cut_by_stroke, cut_edits, CutMode, CutOptions, Stroke, View};
 use katachi::mesh::shapes;
 use katachi::subdivide::{catmull_clark, SubdivideOptions};
 use katachi::PolyMesh;
@@ -126,6 +127,11 @@ fn cut(c: &mut Criterion) {
             g.bench_with_input(BenchmarkId::new("cut", format!("{mode:?}")), &o, |b, o| {
                 b.iter_with_large_drop(|| cut_by_stroke(&mesh, &s, &view, o).unwrap())
             });
+            g.bench_with_input(
+                BenchmarkId::new("cut_edits", format!("{mode:?}")),
+                &o,
+                |b, o| b.iter_with_large_drop(|| cut_edits(&mesh, &s, &view, o).unwrap()),
+            );
         }
         g.finish();
         // Side by side, interleaved, for the ratio.
@@ -146,12 +152,21 @@ fn cut(c: &mut Criterion) {
                 },
                 runs,
             );
+            let te = median(
+                || {
+                    drop(std::hint::black_box(
+                        cut_edits(&mesh, &s, &view, &o).unwrap(),
+                    ))
+                },
+                runs,
+            );
             table.push((
                 name.clone(),
                 format!("{mode:?}"),
                 floor,
                 copy,
                 t,
+                te,
                 out.report.new_faces,
                 out.report.paths.len(),
             ));
@@ -160,13 +175,23 @@ fn cut(c: &mut Criterion) {
     eprintln!("\nstroke cut, 50-point stroke, medians of 9 runs (all cores):");
     eprintln!("(floor: one projection pass; clone: PolyMesh::clone, what any new output costs)");
     eprintln!(
-        "{:<28} {:<12} {:>9} {:>9} {:>9} {:>7} {:>8} {:>9} {:>6}",
-        "mesh", "mode", "floor", "clone", "cut", "/floor", "/clone", "new faces", "paths"
+        "{:<28} {:<12} {:>9} {:>9} {:>9} {:>7} {:>8} {:>9} {:>7} {:>9} {:>6}",
+        "mesh",
+        "mode",
+        "floor",
+        "clone",
+        "cut",
+        "/floor",
+        "/clone",
+        "edits",
+        "/floor",
+        "new faces",
+        "paths"
     );
-    for (name, mode, floor, copy, t, nf, np) in table {
+    for (name, mode, floor, copy, t, te, nf, np) in table {
         let ms = |d: Duration| d.as_secs_f64() * 1e3;
         eprintln!(
-            "{:<28} {:<12} {:>7.2}ms {:>7.2}ms {:>7.2}ms {:>6.1}x {:>7.1}x {:>9} {:>6}",
+            "{:<28} {:<12} {:>7.2}ms {:>7.2}ms {:>7.2}ms {:>6.1}x {:>7.1}x {:>7.2}ms {:>6.1}x {:>9} {:>6}",
             name,
             mode,
             ms(floor),
@@ -174,6 +199,8 @@ fn cut(c: &mut Criterion) {
             ms(t),
             ms(t) / ms(floor),
             ms(t) / ms(copy),
+            ms(te),
+            ms(te) / ms(floor),
             nf,
             np
         );

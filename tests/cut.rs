@@ -1679,3 +1679,39 @@ fn interpolation_rejects_data_of_the_wrong_size_or_mesh() {
         Err(Error::InvalidArgument(_))
     ));
 }
+
+#[test]
+fn edits_applied_by_hand_give_the_cut_mesh() {
+    use katachi::cut::cut_edits;
+    let (g, v) = grid_scene();
+    let s = stroke(&[px(0.3, 1.2), px(4.1, 3.3), px(7.6, 6.3)]);
+    let mut o = through_all();
+    o.open = true;
+    let e = cut_edits(&g, &s, &v, &o).unwrap();
+    let out = cut_by_stroke(&g, &s, &v, &o).unwrap();
+    assert_eq!(bits(&e.apply(&g).unwrap()), bits(&out));
+    assert_eq!(e.report, out.report);
+    // By hand: move, append vertices, rewrite slots, append faces.
+    let mut pos = g.positions().to_vec();
+    for m in &e.report.moved {
+        pos[m.vertex.idx()] = m.to;
+    }
+    pos.extend_from_slice(&e.new_vertices);
+    let mut tris = faces_of(&g);
+    for (slot, t) in &e.rewritten_faces {
+        tris[slot.idx()] = t.map(|v| v.0);
+    }
+    tris.extend(e.appended_faces.iter().map(|(t, _)| t.map(|v| v.0)));
+    assert_eq!(pos, out.mesh.positions());
+    assert_eq!(tris, faces_of(&out.mesh));
+    assert!(!e.split_edges.is_empty());
+    for (u, w, on) in &e.split_edges {
+        assert!(!edge_set(&out.mesh).contains(&(u.0.min(w.0), u.0.max(w.0))));
+        assert!(on.iter().all(|m| m.0 >= g.vertex_count()));
+    }
+    // Edits of one mesh do not apply to another.
+    assert!(matches!(
+        e.apply(&tri_grid(3, 3)),
+        Err(Error::InvalidArgument(_))
+    ));
+}

@@ -1,139 +1,64 @@
-//! The output mesh: the untouched faces are copied in bulk (slot `f` stays face `f`), split
-//! faces write their first piece into their slot and append the others; positions are copied
-//! with the snapped vertices moved and the new ones appended. No whole-mesh validation (the
-//! pieces are valid by construction; debug builds check).
+//! The output mesh from the edits: the untouched faces are copied in bulk (slot `f` stays face
+//! `f`), rewritten slots overwritten, appended faces added; positions are copied with the
+//! snapped vertices moved and the new ones appended. No whole-mesh validation (the pieces are
+//! valid by construction; debug builds check).
 
 use glam::DVec3;
 use rayon::prelude::*;
 
-use super::region::Region;
-use super::split::Splitter;
+use super::edits::CutEdits;
+use super::triangulate::Triangles;
 use crate::mem;
 use crate::mesh::{FaceId, PolyMesh, VertexId};
 
-pub(crate) struct Assembled {
-    pub mesh: PolyMesh,
-    pub face_origin: Vec<FaceId>,
-    /// Output id of each local vertex (region vertices, then new ones).
-    pub global: Vec<u32>,
-    pub appended_faces: u32,
-    /// Source triangle of each appended face.
-    pub appended_from: Vec<u32>,
-    /// Slots whose triangle was rewritten, ascending.
-    pub rewritten: Vec<u32>,
-}
-
-/// `positions`: a copy of `tris`'s positions (made by the vertex pass, which reads them
-/// anyway); `copies_of[i]`: the local vertex that new vertex `split_count + i` copies
-/// (opening).
-#[allow(clippy::too_many_arguments)]
+/// The cut mesh and each face's input face.
 pub(crate) fn assemble(
     input: &PolyMesh,
-    tris: &PolyMesh,
-    mut positions: Vec<DVec3>,
-    tri_origin: Option<&[FaceId]>,
-    region: &Region,
-    moved: &[u32],
-    sp: &Splitter,
-    split_count: usize,
-    copies_of: &[u32],
-) -> Assembled {
-    let nv_in = tris.vertex_count();
-    let n0 = region.verts.len() as u32;
-    let global: Vec<u32> = (0..n0 + sp.new_pos.len() as u32)
-        .map(|lv| {
-            if lv < n0 {
-                region.verts[lv as usize]
-            } else {
-                nv_in + lv - n0
-            }
-        })
-        .collect();
-
+    tris: &Triangles<'_>,
+    edits: &CutEdits,
+) -> (PolyMesh, Vec<FaceId>) {
+    let tm: &PolyMesh = &tris.mesh;
     // Output arrays: pages advised huge before the first write (crate::mem), filled by
-    // rayon in place — at 1M faces the copy is page faults more than bytes. The positions
-    // were copied by the vertex pass.
-    debug_assert_eq!(positions.as_slice(), tris.positions());
-    for &lv in moved {
-        positions[region.verts[lv as usize] as usize] = region.pos[lv as usize];
+    // rayon in place — at 1M faces the copy is page faults more than bytes.
+    let nv = tm.vertex_count() as usize;
+    let mut positions: Vec<DVec3> = mem::with_capacity(nv + edits.new_vertices.len());
+    positions.par_extend(tm.positions().par_iter().copied());
+    for m in &edits.report.moved {
+        positions[m.vertex.idx()] = m.to;
     }
-    positions.extend_from_slice(&sp.new_pos);
-    let mut touched = sp.touched.clone();
-    touched.sort_unstable();
-    let appended: usize = touched
-        .iter()
-        .map(|&lf| sp.subs[lf as usize].as_ref().map_or(0, |s| s.len() - 1))
-        .sum();
-    let nf = tris.face_count() as usize;
-    let nf_out = nf + appended;
+    positions.extend_from_slice(&edits.new_vertices);
+
+    let nf = tm.face_count() as usize;
+    let nf_out = nf + edits.appended_faces.len();
     let mut corners: Vec<VertexId> = mem::with_capacity(3 * nf_out);
-    corners.par_extend(tris.corners().par_iter().copied());
-    let mut appended_from: Vec<u32> = Vec::with_capacity(appended);
-    for &lf in &touched {
-        let subs = sp.subs[lf as usize].as_ref().expect("touched");
-        let slot = region.faces[lf as usize] as usize;
-        for (k, t) in subs.iter().enumerate() {
-            let t = t.map(|v| VertexId(global[v as usize]));
-            if k == 0 {
-                corners[3 * slot..3 * slot + 3].copy_from_slice(&t);
-            } else {
-                corners.extend_from_slice(&t);
-                appended_from.push(slot as u32);
-            }
-        }
+    corners.par_extend(tm.corners().par_iter().copied());
+    for (slot, t) in &edits.rewritten_faces {
+        corners[3 * slot.idx()..3 * slot.idx() + 3].copy_from_slice(t);
     }
-    let mut rewritten: Vec<u32> = touched
-        .iter()
-        .map(|&lf| region.faces[lf as usize])
-        .collect();
-    rewritten.sort_unstable();
+    for (t, _) in &edits.appended_faces {
+        corners.extend_from_slice(t);
+    }
     let mut face_loop_offsets: Vec<u32> = mem::with_capacity(nf_out + 1);
     face_loop_offsets.par_extend((0..nf_out as u32 + 1).into_par_iter());
     let mut loop_offsets: Vec<u32> = mem::with_capacity(nf_out + 1);
     loop_offsets.par_extend((0..nf_out as u32 + 1).into_par_iter().map(|i| 3 * i));
-    let origin_of = |t: u32| match tri_origin {
+    let origin_of = |t: u32| match &tris.origin {
         Some(o) => o[t as usize],
         None => FaceId(t),
     };
     let mut face_origin: Vec<FaceId> = mem::with_capacity(nf_out);
     face_origin.par_extend((0..nf as u32).into_par_iter().map(origin_of));
-    face_origin.extend(appended_from.iter().map(|&t| origin_of(t)));
+    face_origin.extend(edits.appended_faces.iter().map(|&(_, s)| origin_of(s.0)));
     let mut mesh =
         PolyMesh::from_parts_unchecked(positions, face_loop_offsets, loop_offsets, corners);
-    carry_attributes(
-        input,
-        &mut mesh,
-        &face_origin,
-        sp,
-        region,
-        &global,
-        split_count,
-        copies_of,
-    );
-    Assembled {
-        mesh,
-        face_origin,
-        global,
-        appended_faces: appended_from.len() as u32,
-        appended_from,
-        rewritten,
-    }
+    carry_attributes(input, &mut mesh, &face_origin, edits);
+    (mesh, face_origin)
 }
 
 /// Face labels and selections follow `face_origin`; vertex sharpness and selection stay on
 /// the input's vertices (an opening copy takes its original's); a sharp edge split in two
 /// stays sharp on both halves.
-#[allow(clippy::too_many_arguments)]
-fn carry_attributes(
-    input: &PolyMesh,
-    out: &mut PolyMesh,
-    face_origin: &[FaceId],
-    sp: &Splitter,
-    region: &Region,
-    global: &[u32],
-    split_count: usize,
-    copies_of: &[u32],
-) {
+fn carry_attributes(input: &PolyMesh, out: &mut PolyMesh, face_origin: &[FaceId], e: &CutEdits) {
     let a = &input.attributes;
     if a.face_labels.par_iter().any(|&l| l != 0) {
         out.attributes.face_labels = face_origin
@@ -148,44 +73,33 @@ fn carry_attributes(
             .collect();
     }
     let nv_in = input.vertex_count() as usize;
-    let n0 = region.verts.len();
+    let p = &e.provenance;
+    // The input vertex a new vertex copies, if it is an opening copy of one.
     let source = |k: usize| -> Option<usize> {
-        // New vertex k (0-based among new ones): an opening copy points to its original.
-        let c = k.checked_sub(split_count)?;
-        let v = copies_of[c] as usize;
-        if v < n0 {
-            Some(region.verts[v] as usize)
-        } else {
-            None
-        }
+        let c = (nv_in + k).checked_sub(p.first_copy as usize)?;
+        let v = p.copy_of[c] as usize;
+        (v < nv_in).then_some(v)
     };
-    for (values, default) in [(&a.vertex_sharpness, 0.0)] {
-        if values.par_iter().any(|&s| s != 0.0) {
-            let o = &mut out.attributes.vertex_sharpness;
-            o[..nv_in].copy_from_slice(values);
-            for k in 0..sp.new_pos.len() {
-                o[nv_in + k] = source(k).map_or(default, |v| values[v]);
-            }
+    if a.vertex_sharpness.par_iter().any(|&s| s != 0.0) {
+        let o = &mut out.attributes.vertex_sharpness;
+        o[..nv_in].copy_from_slice(&a.vertex_sharpness);
+        for k in 0..e.new_vertices.len() {
+            o[nv_in + k] = source(k).map_or(0.0, |v| a.vertex_sharpness[v]);
         }
     }
     if a.vertex_selection.par_iter().any(|&s| s) {
         let o = &mut out.attributes.vertex_selection;
         o[..nv_in].copy_from_slice(&a.vertex_selection);
-        for k in 0..sp.new_pos.len() {
+        for k in 0..e.new_vertices.len() {
             o[nv_in + k] = source(k).is_some_and(|v| a.vertex_selection[v]);
         }
     }
     let mut sharp = a.edge_sharpness.clone();
-    for (e, &[u, w]) in region.edges.iter().enumerate() {
-        let on = sp.edge_vertices(e as u32);
-        if on.is_empty() {
-            continue;
-        }
-        let (gu, gw) = (global[u as usize], global[w as usize]);
-        if let Some(s) = sharp.remove(&(gu.min(gw), gu.max(gw))) {
-            let chain: Vec<u32> = std::iter::once(gu)
-                .chain(on.iter().map(|&(_, m)| global[m as usize]))
-                .chain(std::iter::once(gw))
+    for (u, w, on) in &e.split_edges {
+        if let Some(s) = sharp.remove(&(u.0.min(w.0), u.0.max(w.0))) {
+            let chain: Vec<u32> = std::iter::once(u.0)
+                .chain(on.iter().map(|m| m.0))
+                .chain(std::iter::once(w.0))
                 .collect();
             for w in chain.windows(2) {
                 sharp.insert((w[0].min(w[1]), w[0].max(w[1])), s);

@@ -203,28 +203,18 @@ pub(crate) fn point_segment_distance(p: DVec2, a: DVec2, b: DVec2) -> f64 {
     (a + ab * t - p).length()
 }
 
-/// Pass 1: every vertex's code, and (the same read) a copy of the positions for the output,
-/// with room for the vertices the cut may add.
-pub(crate) fn vertex_codes(
-    positions: &[DVec3],
-    proj: &Projector,
-    grid: &CellGrid,
-) -> (Vec<u32>, Vec<DVec3>) {
-    let n = positions.len();
-    let mut codes: Vec<u32> = crate::mem::with_capacity(n);
-    let mut copy: Vec<DVec3> = crate::mem::with_capacity(n + n / 64 + 1024);
+/// Pass 1: every vertex's code.
+pub(crate) fn vertex_codes(positions: &[DVec3], proj: &Projector, grid: &CellGrid) -> Vec<u32> {
+    let mut codes: Vec<u32> = crate::mem::with_capacity(positions.len());
     positions
         .par_iter()
         .with_min_len(CHUNK)
-        .map(|&p| {
-            let code = match proj.see(p) {
-                Some(s) => grid.code(s.screen),
-                None => BEHIND,
-            };
-            (code, p)
+        .map(|&p| match proj.see(p) {
+            Some(s) => grid.code(s.screen),
+            None => BEHIND,
         })
-        .unzip_into_vecs(&mut codes, &mut copy);
-    (codes, copy)
+        .collect_into_vec(&mut codes);
+    codes
 }
 
 /// Pass 2: candidate triangles (ascending) and triangles straddling the eye plane that the

@@ -62,6 +62,7 @@
 mod assemble;
 mod candidates;
 mod crossings;
+mod edits;
 mod geom;
 mod interpolate;
 mod normalize;
@@ -76,6 +77,7 @@ mod triangulate;
 mod view;
 mod visibility;
 
+pub use edits::CutEdits;
 pub use options::{CutMode, CutOptions};
 pub use report::{CutOutput, CutPath, CutReport, DroppedPoints, VertexMove};
 pub use view::{Stroke, View};
@@ -108,6 +110,29 @@ pub fn cut_by_stroke(
     view: &View,
     options: &CutOptions,
 ) -> Result<CutOutput> {
+    let (edits, tris) = plan(mesh, stroke, view, options)?;
+    edits.apply_to(mesh, &tris)
+}
+
+/// [`cut_by_stroke`] without building the new mesh: what the cut changes, as edits to the
+/// triangulated input ([`CutEdits`]), for callers that keep their own mesh and apply them
+/// in O(changes). [`CutEdits::apply`] gives [`cut_by_stroke`]'s result. Same errors.
+pub fn cut_edits(
+    mesh: &PolyMesh,
+    stroke: &Stroke,
+    view: &View,
+    options: &CutOptions,
+) -> Result<CutEdits> {
+    Ok(plan(mesh, stroke, view, options)?.0)
+}
+
+/// The cut's steps (seed 002 §3.4's list, spec §4), up to the edits.
+fn plan<'a>(
+    mesh: &'a PolyMesh,
+    stroke: &Stroke,
+    view: &View,
+    options: &CutOptions,
+) -> Result<(CutEdits, triangulate::Triangles<'a>)> {
     options.validate()?;
     let proj = view::Projector::new(view)?;
     let prep = stroke::prepare(stroke, options)?;
@@ -126,9 +151,9 @@ pub fn cut_by_stroke(
     // so L does not change and a second round always suffices.
     let l_guess = candidates::sample_edge_length(tm.positions(), tm.corners(), &proj);
     let mut margin = 3.0 * max_ratio * l_guess;
-    let (grid, clipped, mut region, l_px, l_world, degenerate_met, positions_out) = loop {
+    let (grid, clipped, mut region, l_px, l_world, degenerate_met) = loop {
         let grid = CellGrid::new(&segs, margin, margin.max(l_guess));
-        let (codes, positions_out) = candidates::vertex_codes(tm.positions(), &proj, &grid);
+        let codes = candidates::vertex_codes(tm.positions(), &proj, &grid);
         let (cands, clipped) = candidates::candidate_faces(tm.corners(), &codes, &grid);
         let kept = candidates::refine(
             tm.positions(),
@@ -142,15 +167,7 @@ pub fn cut_by_stroke(
         let region = Region::build(tm, &kept, &grid, &segs, margin, &proj, options.mode)?;
         let (l_px, l_world, degenerate_met) = region.mean_edge_length();
         if max_ratio * l_px <= margin {
-            break (
-                grid,
-                clipped,
-                region,
-                l_px,
-                l_world,
-                degenerate_met,
-                positions_out,
-            );
+            break (grid, clipped, region, l_px, l_world, degenerate_met);
         }
         margin = 2.0 * max_ratio * l_px;
     };
@@ -398,29 +415,53 @@ pub fn cut_by_stroke(
         Vec::new()
     };
 
-    let moved: Vec<u32> = {
-        let mut m: Vec<u32> = snapped.moves.iter().map(|x| x.0).collect();
-        m.sort_unstable();
-        m
-    };
-    let out = assemble::assemble(
-        mesh,
-        tm,
-        positions_out,
-        tris.origin.as_deref(),
-        &region,
-        &moved,
-        &sp,
-        split_count,
-        &copies_of,
-    );
+    // The edits, in output ids: region vertices keep their mesh ids, new ones follow.
+    let nv_in = tm.vertex_count();
+    let n0 = region.verts.len() as u32;
+    let global: Vec<u32> = (0..n0 + sp.new_pos.len() as u32)
+        .map(|lv| {
+            if lv < n0 {
+                region.verts[lv as usize]
+            } else {
+                nv_in + lv - n0
+            }
+        })
+        .collect();
+    let to_global = |t: &[u32; 3]| t.map(|v| VertexId(global[v as usize]));
+    let mut touched = sp.touched.clone();
+    touched.sort_unstable();
+    let mut rewritten_faces = Vec::with_capacity(touched.len());
+    let mut appended_faces = Vec::new();
+    for &lf in &touched {
+        let subs = sp.subs[lf as usize].as_ref().expect("touched");
+        let slot = FaceId(region.faces[lf as usize]);
+        rewritten_faces.push((slot, to_global(&subs[0])));
+        appended_faces.extend(subs[1..].iter().map(|t| (to_global(t), slot)));
+    }
+    rewritten_faces.sort_unstable_by_key(|x| x.0);
+    let split_edges: Vec<(VertexId, VertexId, Vec<VertexId>)> = region
+        .edges
+        .iter()
+        .enumerate()
+        .filter(|(e, _)| !sp.edge_vertices(*e as u32).is_empty())
+        .map(|(e, &[u, w])| {
+            let on = sp.edge_vertices(e as u32);
+            (
+                VertexId(global[u as usize]),
+                VertexId(global[w as usize]),
+                on.iter()
+                    .map(|&(_, m)| VertexId(global[m as usize]))
+                    .collect(),
+            )
+        })
+        .collect();
 
     // The report.
-    let gid = |lv: u32| VertexId(out.global[lv as usize]);
+    let gid = |lv: u32| VertexId(global[lv as usize]);
     let mut report = CutReport {
         pieces: pieces.len() as u32,
         new_vertices: sp.new_pos.len() as u32,
-        new_faces: out.appended_faces,
+        new_faces: appended_faces.len() as u32,
         split_faces,
         mean_edge_length_px: l_px,
         mean_edge_length_world: l_world,
@@ -520,24 +561,26 @@ pub fn cut_by_stroke(
         &buckets,
         visible_only,
     );
-    let first_copy = tm.vertex_count() + split_count as u32;
     let provenance = interpolate::Provenance {
         tri_count: tm.face_count(),
         input_vertices: mesh.vertex_count(),
-        appended_from: out.appended_from,
-        rewritten: out.rewritten,
-        first_copy,
-        copy_of: copies_of
-            .iter()
-            .map(|&lv| out.global[lv as usize])
-            .collect(),
+        appended_from: appended_faces.iter().map(|&(_, s)| s.0).collect(),
+        rewritten: rewritten_faces.iter().map(|&(s, _)| s.0).collect(),
+        first_copy: nv_in + split_count as u32,
+        copy_of: copies_of.iter().map(|&lv| global[lv as usize]).collect(),
     };
-    Ok(CutOutput {
-        mesh: out.mesh,
-        face_origin: out.face_origin,
+    let edits = CutEdits {
+        input_vertex_count: mesh.vertex_count(),
+        input_triangle_count: tm.face_count(),
+        new_vertices: std::mem::take(&mut sp.new_pos),
+        rewritten_faces,
+        appended_faces,
+        split_edges,
         report,
         provenance,
-    })
+    };
+    drop(sp);
+    Ok((edits, tris))
 }
 
 /// The polyline point closest to half the length of a closed stroke, preferring points that

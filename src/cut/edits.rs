@@ -1,0 +1,79 @@
+//! A cut as a list of edits to the triangulated input, the result of [`super::cut_edits`].
+//!
+//! A stroke touches a few thousand faces of a mesh that may have millions; building the new
+//! mesh is then most of the cost of a cut (a copy of every array). The edits are what
+//! changed — moved vertices, new vertices, rewritten and appended triangles — so a caller
+//! that keeps its own mesh (an editor's undo stack, a viewport buffer) applies them in
+//! O(changes), and [`CutEdits::apply`] builds the whole new mesh when one is wanted.
+
+use glam::DVec3;
+
+use super::interpolate::Provenance;
+use super::report::{CutOutput, CutReport};
+use super::{assemble, triangulate};
+use crate::error::{Error, Result};
+use crate::mesh::{FaceId, PolyMesh, VertexId};
+
+/// What a cut changes in the triangulated input (a triangle mesh is its own triangulation:
+/// faces keep their ids). Vertex ids are the output's: input vertices keep theirs, new ones
+/// follow from [`CutEdits::input_vertex_count`] on.
+#[derive(Debug, Clone)]
+pub struct CutEdits {
+    /// Vertices of the input.
+    pub input_vertex_count: u32,
+    /// Triangles of the triangulated input (the input's face count for a triangle mesh).
+    pub input_triangle_count: u32,
+    /// Positions of the vertices the cut adds, in id order: split vertices, then the copies
+    /// opening made. The moved vertices and their new positions are [`CutReport::moved`].
+    pub new_vertices: Vec<DVec3>,
+    /// Triangles rewritten in place: (slot, new corners), ascending slot. The slot's face of
+    /// the input is its source (materials, UVs).
+    pub rewritten_faces: Vec<(FaceId, [VertexId; 3])>,
+    /// Triangles added, with the slot of the triangle each one lies in; their ids follow
+    /// `input_triangle_count` in this order.
+    pub appended_faces: Vec<([VertexId; 3], FaceId)>,
+    /// Input edges the cut split: (end, end, the new vertices on it from the first end to the
+    /// second). Edge attributes (sharpness) follow the pieces.
+    pub split_edges: Vec<(VertexId, VertexId, Vec<VertexId>)>,
+    /// What was done.
+    pub report: CutReport,
+    pub(crate) provenance: Provenance,
+}
+
+impl CutEdits {
+    /// Builds the cut mesh from `mesh`, the mesh that was cut: the untouched triangles are
+    /// copied in bulk, so this costs about a copy of the mesh.
+    ///
+    /// Errors: [`Error::InvalidArgument`] when `mesh` is not the mesh that was cut (counts
+    /// differ).
+    pub fn apply(&self, mesh: &PolyMesh) -> Result<CutOutput> {
+        let tris = triangulate::triangles(mesh)?;
+        self.apply_to(mesh, &tris)
+    }
+
+    pub(crate) fn apply_to(
+        &self,
+        mesh: &PolyMesh,
+        tris: &triangulate::Triangles<'_>,
+    ) -> Result<CutOutput> {
+        if mesh.vertex_count() != self.input_vertex_count
+            || tris.mesh.face_count() != self.input_triangle_count
+        {
+            return Err(Error::InvalidArgument(format!(
+                "the mesh given has {} vertices and {} triangles once triangulated, but the cut \
+                 mesh had {} and {}: apply the edits to the mesh that was cut",
+                mesh.vertex_count(),
+                tris.mesh.face_count(),
+                self.input_vertex_count,
+                self.input_triangle_count
+            )));
+        }
+        let (mesh_out, face_origin) = assemble::assemble(mesh, tris, self);
+        Ok(CutOutput {
+            mesh: mesh_out,
+            face_origin,
+            report: self.report.clone(),
+            provenance: self.provenance.clone(),
+        })
+    }
+}

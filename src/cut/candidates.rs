@@ -10,7 +10,7 @@
 //! run on rayon in fixed chunks and concatenate in chunk order, so the result does not
 //! depend on the thread count. [`refine`] then keeps the candidates truly within the margin.
 
-use glam::{DVec2, DVec3};
+use glam::{DVec2, DVec3, DVec4};
 use rayon::prelude::*;
 
 use super::view::Projector;
@@ -19,6 +19,11 @@ use crate::mesh::VertexId;
 /// Vertex code for "behind the eye".
 pub(crate) const BEHIND: u32 = u32::MAX;
 const CHUNK: usize = 1 << 14;
+/// How far (in cells) the "near" marks reach around the band: faces spanning up to this many
+/// cells are rejected from their corners' bits alone. Cells are about one mean edge long and
+/// edges vary, so 1 sent a quarter of a dense mesh's faces to the slow test; 4 sends few
+/// and suits [`within_ring`]'s lanes.
+const NEAR_RING: u32 = 4;
 
 /// The grid over the stroke: geometry, marked cells and the segments near each cell.
 #[derive(Debug, Clone)]
@@ -29,8 +34,9 @@ pub(crate) struct CellGrid {
     pub ny: i32,
     inv_cell: f64,
     marked: Vec<bool>,
-    /// Marked cells grown by one cell (8-neighbourhood): a vertex outside it belongs to no
-    /// face that can touch a marked cell unless the face spans more than one cell.
+    /// Marked cells grown by [`NEAR_RING`] cells each way, on the grid with its outside ring: a face none of whose corners is
+    /// in it touches a marked cell only if it spans more than `NEAR_RING` cells (its corners
+    /// are then not all within `NEAR_RING` cells of the marked one).
     near: Vec<bool>,
     /// CSR: segments within the margin of cell `c` are `seg_list[seg_start[c]..seg_start[c+1]]`.
     seg_start: Vec<u32>,
@@ -56,6 +62,12 @@ impl CellGrid {
         if (ext.x / cell + 1.0) * (ext.y / cell + 1.0) > (1u64 << 20) as f64 {
             cell = ((ext.x * ext.y) / (1u64 << 20) as f64).sqrt().max(cell);
         }
+        // A border of NEAR_RING + 1 cells that no marked cell reaches: a corner clamped to
+        // the outside ring is then never within NEAR_RING cells of a marked one.
+        let pad = DVec2::splat((NEAR_RING + 1) as f64 * cell);
+        lo -= pad;
+        hi += pad;
+        let ext = hi - lo;
         let nx = ((ext.x / cell).ceil() as i32).max(1);
         let ny = ((ext.y / cell).ceil() as i32).max(1);
         let ncell = (nx * ny) as usize;
@@ -81,14 +93,26 @@ impl CellGrid {
                 }
             }
         }
-        let mut near = marked.clone();
+        // Dilation by NEAR_RING cells (Chebyshev), rows then columns.
+        let r = NEAR_RING as i32;
+        let mut rows = vec![false; ncell];
+        for cy in 0..ny {
+            let row = (cy * nx) as usize;
+            for cx in 0..nx {
+                if marked[row + cx as usize] {
+                    for x in (cx - r).max(0)..=(cx + r).min(nx - 1) {
+                        rows[row + x as usize] = true;
+                    }
+                }
+            }
+        }
+        // With the outside ring (never near), indexed by code: (cy + 1)·(nx + 2) + cx + 1.
+        let mut near = vec![false; ((nx + 2) * (ny + 2)) as usize];
         for cy in 0..ny {
             for cx in 0..nx {
-                if marked[(cy * nx + cx) as usize] {
-                    for y in (cy - 1).max(0)..=(cy + 1).min(ny - 1) {
-                        for x in (cx - 1).max(0)..=(cx + 1).min(nx - 1) {
-                            near[(y * nx + x) as usize] = true;
-                        }
+                if rows[(cy * nx + cx) as usize] {
+                    for y in (cy - r).max(0)..=(cy + r).min(ny - 1) {
+                        near[((y + 1) * (nx + 2) + cx + 1) as usize] = true;
                     }
                 }
             }
@@ -115,24 +139,22 @@ impl CellGrid {
         }
     }
 
-    /// The vertex code of a screen point: its cell, clamped to one outside ring, packed
-    /// (x in bits 0-15, y in 16-30), and bit 31 set when the cell is near a marked one.
-    /// (No `floor`: without SSE4.1 it is a libm call, and this runs once per vertex.)
+    /// The vertex code of a world point seen through `rows` ([`Projector::cell_rows`] for
+    /// this grid): its cell, clamped to one outside ring, packed (x in bits 0-15, y in 16-30,
+    /// both offset by one so the ring below is 0), and bit 31 set when the cell is near a
+    /// marked one; [`BEHIND`] behind the eye. Branch-free but for the eye test; NaN clamps
+    /// to the ring (`f64::max` drops it). (No `floor`: without SSE4.1 it is a libm call.)
     #[inline]
-    pub fn code(&self, s: DVec2) -> u32 {
-        let q = (s - self.origin) * self.inv_cell;
-        let clamp = |x: f64, n: i32| -> u32 {
-            if x.is_nan() || x < 0.0 {
-                0
-            } else if x >= n as f64 {
-                n as u32 + 1
-            } else {
-                x as u32 + 1
-            }
-        };
-        let (cx, cy) = (clamp(q.x, self.nx), clamp(q.y, self.ny));
-        let inside = cx >= 1 && cy >= 1 && cx <= self.nx as u32 && cy <= self.ny as u32;
-        let near = inside && self.near[((cy - 1) * self.nx as u32 + cx - 1) as usize];
+    pub fn code(&self, rows: &(DVec4, DVec4, DVec4), p: DVec3) -> u32 {
+        let h = p.extend(1.0);
+        let w = rows.2.dot(h);
+        if w.is_nan() || w <= 0.0 {
+            return BEHIND;
+        }
+        let inv = 1.0 / w;
+        let cx = (rows.0.dot(h) * inv).max(0.0).min(self.nx as f64 + 1.0) as u32;
+        let cy = (rows.1.dot(h) * inv).max(0.0).min(self.ny as f64 + 1.0) as u32;
+        let near = self.near[(cy * (self.nx as u32 + 2) + cx) as usize];
         cx | (cy << 16) | ((near as u32) << 31)
     }
 
@@ -158,9 +180,12 @@ impl CellGrid {
         let ys = codes.map(|c| ((c >> 16) & 0x7fff) as i32 - 1);
         let (x0, x1) = (xs[0].min(xs[1]).min(xs[2]), xs[0].max(xs[1]).max(xs[2]));
         let (y0, y1) = (ys[0].min(ys[1]).min(ys[2]), ys[0].max(ys[1]).max(ys[2]));
-        // Fast reject: a face within one cell each way touches a marked cell only if all
-        // its corners are near one.
-        if (codes[0] | codes[1] | codes[2]) >> 31 == 0 && x1 - x0 <= 1 && y1 - y0 <= 1 {
+        // Fast reject: a face within NEAR_RING cells each way touches a marked cell only if
+        // all its corners are near one.
+        if (codes[0] | codes[1] | codes[2]) >> 31 == 0
+            && x1 - x0 <= NEAR_RING as i32
+            && y1 - y0 <= NEAR_RING as i32
+        {
             return false;
         }
         if x1 < 0 || y1 < 0 || x0 >= self.nx || y0 >= self.ny {
@@ -205,16 +230,34 @@ pub(crate) fn point_segment_distance(p: DVec2, a: DVec2, b: DVec2) -> f64 {
 
 /// Pass 1: every vertex's code.
 pub(crate) fn vertex_codes(positions: &[DVec3], proj: &Projector, grid: &CellGrid) -> Vec<u32> {
+    let rows = proj.cell_rows(grid.origin, grid.inv_cell);
     let mut codes: Vec<u32> = crate::mem::with_capacity(positions.len());
     positions
         .par_iter()
         .with_min_len(CHUNK)
-        .map(|&p| match proj.see(p) {
-            Some(s) => grid.code(s.screen),
-            None => BEHIND,
-        })
+        .map(|&p| grid.code(&rows, p))
         .collect_into_vec(&mut codes);
     codes
+}
+
+/// Whether the cells of three codes lie within `NEAR_RING` of each other on both axes, by
+/// lanes in one word (the scan's hot test; min/max per axis cost twice as much): per pair,
+/// x and y differences offset by 3 must be in [0, 7], so every difference is in [-3, 4]
+/// and the span at most 4 = `NEAR_RING`. Lanes are 14 bits (cells ≤ 2048 + border) under a
+/// guard bit that absorbs the borrow.
+#[inline]
+fn within_ring(c: [u32; 3]) -> bool {
+    const LANES: u32 = 0x3fff_3fff;
+    const GUARD: u32 = 0x4000_4000;
+    const OFFSET: u32 = 0x0003_0003;
+    let d = |p: u32, q: u32| {
+        (((p & LANES) | GUARD)
+            .wrapping_sub(q & LANES)
+            .wrapping_add(OFFSET)
+            ^ GUARD)
+            & 0xfff8_fff8
+    };
+    d(c[0], c[1]) | d(c[1], c[2]) | d(c[2], c[0]) == 0
 }
 
 /// Pass 2: candidate triangles (ascending) and triangles straddling the eye plane that the
@@ -234,14 +277,9 @@ pub(crate) fn candidate_faces(
             for (i, t) in chunk.chunks_exact(3).enumerate() {
                 let c = [codes[t[0].idx()], codes[t[1].idx()], codes[t[2].idx()]];
                 // Fast reject, the common case: no corner near the band (BEHIND has that
-                // bit set too) and the face within one cell each way.
-                if (c[0] | c[1] | c[2]) >> 31 == 0 {
-                    let (x, y) = (c.map(|v| v & 0xffff), c.map(|v| v >> 16));
-                    let dx = x[0].max(x[1]).max(x[2]) - x[0].min(x[1]).min(x[2]);
-                    let dy = y[0].max(y[1]).max(y[2]) - y[0].min(y[1]).min(y[2]);
-                    if dx <= 1 && dy <= 1 {
-                        continue;
-                    }
+                // bit set too) and the face within NEAR_RING cells each way.
+                if (c[0] | c[1] | c[2]) >> 31 == 0 && within_ring(c) {
+                    continue;
                 }
                 let behind = c.iter().filter(|&&x| x == BEHIND).count();
                 if behind == 0 {
@@ -369,7 +407,7 @@ fn segment_triangle_distance(a: DVec2, b: DVec2, t: [DVec2; 3]) -> f64 {
     d
 }
 
-/// A cheap guess of the mean screen edge length from up to ~2k evenly spaced faces, to size
+/// A cheap guess of the mean screen edge length from up to ~512 evenly spaced faces, to size
 /// the snap margin before the real L is known (a wrong guess costs a second pass, never a
 /// wrong result).
 pub(crate) fn sample_edge_length(
@@ -381,7 +419,7 @@ pub(crate) fn sample_edge_length(
     if nf == 0 {
         return 0.0;
     }
-    let step = (nf / 2048).max(1);
+    let step = (nf / 512).max(1);
     let (mut sum, mut n) = (0.0, 0u32);
     for f in (0..nf).step_by(step) {
         let t = &corners[3 * f..3 * f + 3];

@@ -121,6 +121,18 @@ impl Projector {
         self.vp * p.extend(1.0)
     }
 
+    /// Rows `(rx, ry, rw)` such that a world point `p` (in front) lies in cell
+    /// `(rx·[p,1] / rw·[p,1], ry·[p,1] / rw·[p,1]) − 1` of a grid with this pixel `origin` and
+    /// cells `1 / inv_cell` wide: the projection and the cell lookup folded into one divide
+    /// (the cut's vertex pass).
+    pub fn cell_rows(&self, origin: DVec2, inv_cell: f64) -> (DVec4, DVec4, DVec4) {
+        let (r0, r1, r3) = (self.vp.row(0), self.vp.row(1), self.vp.row(3));
+        let (ax, ay) = (self.half_w * inv_cell, self.half_h * inv_cell);
+        let bx = (self.x0 + self.half_w - origin.x) * inv_cell + 1.0;
+        let by = (self.y0 + self.half_h - origin.y) * inv_cell + 1.0;
+        (r0 * ax + r3 * bx, r3 * by - r1 * ay, r3)
+    }
+
     /// Pixel position of NDC x, y.
     #[inline]
     pub fn ndc_to_screen(&self, x: f64, y: f64) -> DVec2 {

@@ -31,48 +31,70 @@ impl FaceBuckets {
     /// Buckets of the region's faces; each face's screen box is grown by `slack` pixels so
     /// the buckets stay valid while vertices move that far (snapping).
     pub fn new(region: &Region, grid: &CellGrid, depth_eps_rel: f64, slack: f64) -> Self {
-        // Buckets over the stroke grid's area, about one per face (the stroke grid's cells
-        // are too coarse for point queries on a dense mesh).
+        // Buckets over the stroke grid's area, about one face wide: the region's faces lie
+        // in a band along the stroke, so sizing cells by area per face would put dozens of
+        // faces in each (the stroke grid's cells are too coarse for point queries too).
         let (origin, ext) = (
             grid.origin,
             DVec2::new(grid.nx as f64, grid.ny as f64) * grid.cell,
         );
-        let target = (region.tri.len().max(64)) as f64;
-        let cell = ((ext.x * ext.y) / target)
-            .sqrt()
-            .max(ext.x.max(ext.y) / 4096.0)
+        let (mut size, mut n) = (0.0, 0u32);
+        for lf in 0..region.tri.len() as u32 {
+            if region.projectable(lf) {
+                let [a, b, c] = region.face_screen(lf);
+                let e = a.max(b).max(c) - a.min(b).min(c);
+                size += e.x.max(e.y);
+                n += 1;
+            }
+        }
+        let mean = if n > 0 { size / n as f64 } else { 0.0 };
+        let cell = mean
+            .max(((ext.x * ext.y) / (1u64 << 22) as f64).sqrt())
+            .max(ext.x.max(ext.y) / 8192.0)
             .max(1e-9);
         let nx = ((ext.x / cell).ceil() as i32).max(1);
         let ny = ((ext.y / cell).ceil() as i32).max(1);
         let ncell = (nx * ny) as usize;
-        let mut pairs: Vec<(u32, u32)> = Vec::new();
         let (mut lo, mut hi) = (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
         for &p in &region.pos {
             lo = lo.min(p);
             hi = hi.max(p);
         }
+        // Counting sort by cell, faces ascending within a cell: count, prefix-sum, fill.
         let range = |a: DVec2, b: DVec2| cell_range(origin, cell, nx, ny, a, b);
-        for lf in 0..region.tri.len() as u32 {
-            if !region.projectable(lf) || region.sign[lf as usize] == 0.0 {
-                continue;
-            }
-            let [a, b, c] = region.face_screen(lf);
-            let pad = DVec2::splat(slack);
-            if let Some((x0, y0, x1, y1)) = range(a.min(b).min(c) - pad, a.max(b).max(c) + pad) {
-                for cy in y0..=y1 {
-                    for cx in x0..=x1 {
-                        pairs.push(((cy * nx + cx) as u32, lf));
-                    }
+        let pad = DVec2::splat(slack);
+        let boxes: Vec<Option<(i32, i32, i32, i32)>> = (0..region.tri.len() as u32)
+            .map(|lf| {
+                if !region.projectable(lf) || region.sign[lf as usize] == 0.0 {
+                    return None;
+                }
+                let [a, b, c] = region.face_screen(lf);
+                range(a.min(b).min(c) - pad, a.max(b).max(c) + pad)
+            })
+            .collect();
+        let mut start = vec![0u32; ncell + 1];
+        for &(x0, y0, x1, y1) in boxes.iter().flatten() {
+            for cy in y0..=y1 {
+                for cx in x0..=x1 {
+                    start[(cy * nx + cx) as usize + 1] += 1;
                 }
             }
         }
-        pairs.sort_unstable();
-        let mut start = vec![0u32; ncell + 1];
-        for &(c, _) in &pairs {
-            start[c as usize + 1] += 1;
-        }
         for i in 0..ncell {
             start[i + 1] += start[i];
+        }
+        let mut fill = start.clone();
+        let mut list = vec![0u32; start[ncell] as usize];
+        for (lf, b) in boxes.iter().enumerate() {
+            if let Some((x0, y0, x1, y1)) = *b {
+                for cy in y0..=y1 {
+                    for cx in x0..=x1 {
+                        let c = (cy * nx + cx) as usize;
+                        list[fill[c] as usize] = lf as u32;
+                        fill[c] += 1;
+                    }
+                }
+            }
         }
         let diag = if region.pos.is_empty() {
             0.0
@@ -85,7 +107,7 @@ impl FaceBuckets {
             nx,
             ny,
             start,
-            list: pairs.into_iter().map(|(_, f)| f).collect(),
+            list,
             eps_world: depth_eps_rel * diag,
         }
     }

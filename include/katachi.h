@@ -218,6 +218,75 @@ typedef uint32_t KatachiFaceVarying;
 #endif // __cplusplus
 
 /**
+ * Which faces a stroke cuts (`KatachiCutOptions::mode`; seed 002 Fig. 2).
+ */
+enum KatachiCutMode
+#if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+  : uint32_t
+#endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+ {
+    /**
+     * Only faces seen from the eye: front-facing and not hidden by nearer faces (the
+     * default).
+     */
+    KATACHI_CUT_MODE_VISIBLE_ONLY = 0,
+    /**
+     * Every face under the stroke, front and back sheets alike; each sheet gets its own path.
+     */
+    KATACHI_CUT_MODE_THROUGH_ALL = 1,
+};
+#ifndef __cplusplus
+#if __STDC_VERSION__ >= 202311L
+typedef enum KatachiCutMode KatachiCutMode;
+#else
+typedef uint32_t KatachiCutMode;
+#endif // __STDC_VERSION__ >= 202311L
+#endif // __cplusplus
+
+/**
+ * The stage of the cut that set a stroke point aside (`katachi_cut_copy_dropped_points`).
+ */
+enum KatachiCutStage
+#if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+  : uint32_t
+#endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+ {
+    /**
+     * Closer than `min_stroke_px` to the previous kept point, or a closing point merged into
+     * the first.
+     */
+    KATACHI_CUT_STAGE_PREPROCESSING = 0,
+    /**
+     * Inside a face: the cut passes it on a straight chord (seed 002 §3.3, first
+     * normalization).
+     */
+    KATACHI_CUT_STAGE_FIRST_NORMALIZATION = 1,
+    /**
+     * On an edge or vertex, but removed so that no triangle is crossed twice (seed 002 §3.3,
+     * second normalization).
+     */
+    KATACHI_CUT_STAGE_SECOND_NORMALIZATION = 2,
+    /**
+     * Over no face the cut may touch (background, hidden or back faces in visible-only mode,
+     * faces behind the eye).
+     */
+    KATACHI_CUT_STAGE_OFF_MESH = 3,
+};
+#ifndef __cplusplus
+#if __STDC_VERSION__ >= 202311L
+typedef enum KatachiCutStage KatachiCutStage;
+#else
+typedef uint32_t KatachiCutStage;
+#endif // __STDC_VERSION__ >= 202311L
+#endif // __cplusplus
+
+/**
+ * The result of `katachi_cut_by_stroke`: the cut mesh, where its faces come from, the cut
+ * paths and what snapping and normalization did. Opaque; free it with `katachi_cut_free`.
+ */
+typedef struct KatachiCut KatachiCut;
+
+/**
  * A polygon mesh whose faces may have holes, with its attributes (edge and vertex
  * sharpness). Opaque: create it with `katachi_mesh_create`, `katachi_mesh_clone` or
  * `katachi_mesh_read`, and free it with `katachi_mesh_free`.
@@ -459,6 +528,181 @@ typedef struct KatachiSubdivisionInfo {
  * `done` levels of `total` are refined. `user` is the pointer given with the callback.
  */
 typedef void (*KatachiProgressFn)(uint32_t done, uint32_t total, void *user);
+
+/**
+ * Options of `katachi_cut_by_stroke`. Start from `katachi_cut_options_default()`.
+ * Enumerated fields are `uint32_t` holding the named constants; other values are rejected.
+ * Distances "× L" are ratios of L, the mean on-screen edge length (in pixels) of the faces
+ * the stroke passes over (`KatachiCutInfo::mean_edge_length_px`).
+ */
+typedef struct KatachiCutOptions {
+    /**
+     * Set by the caller to `sizeof(KatachiCutOptions)`.
+     */
+    uint32_t struct_size;
+    /**
+     * A `KatachiCutMode`. Default `KATACHI_CUT_MODE_VISIBLE_ONLY`.
+     */
+    uint32_t mode;
+    /**
+     * 1: open the cut (duplicate the path's vertices, so the mesh gets a slit, two
+     * boundaries or two components); 0: only insert the edge path. Default 0.
+     */
+    uint32_t open;
+    /**
+     * Refuse a cut that would split more triangles than this, with
+     * `KATACHI_STATUS_BAD_INPUT` ("the cut would split N faces, more than the limit ...") and
+     * nothing returned. Default `UINT32_MAX` (no limit).
+     */
+    uint32_t max_faces_split;
+    /**
+     * Snap a model vertex to a stroke point closer than this × L on screen (seed 002 §3.2),
+     * in [0, 0.5]. Default 0.3.
+     */
+    double snap_vertex_ratio;
+    /**
+     * Snap a model vertex onto a stroke segment closer than this × L (seed 002 §3.2,
+     * Fig. 4), in [0, 0.5]. Default 0.3.
+     */
+    double snap_segment_ratio;
+    /**
+     * Split the stroke where it turns by more than this many degrees (seed 002 §3.4), in
+     * [0, 180]. Default 60.
+     */
+    double corner_angle_degrees;
+    /**
+     * Drop stroke points closer than this many pixels to the previous kept point, and treat
+     * a stroke whose last point is this close to its first as closed (a loop); ≥ 0.
+     * Default 2.
+     */
+    double min_stroke_px;
+    /**
+     * Visible-only mode: a face hides a stroke crossing only if it is nearer than the
+     * crossing by more than this × the diagonal of the cut region's bounding box; ≥ 0.
+     * Default 1e-4.
+     */
+    double depth_eps_rel;
+} KatachiCutOptions;
+
+/**
+ * Summary of a cut, filled in by `katachi_cut_info`: the sizes of everything the copy
+ * functions return, and the counts of the report.
+ */
+typedef struct KatachiCutInfo {
+    /**
+     * Set by the caller to `sizeof(KatachiCutInfo)`.
+     */
+    uint32_t struct_size;
+    /**
+     * Vertices of the result.
+     */
+    uint32_t vertex_count;
+    /**
+     * Faces of the result (all triangles; `katachi_cut_copy_face_origin` writes this many).
+     */
+    uint32_t face_count;
+    /**
+     * Face corners of the result (3 × `face_count`).
+     */
+    uint32_t corner_count;
+    /**
+     * Vertices of the input mesh (`katachi_cut_interpolate_vertex_data` reads this many
+     * values per component).
+     */
+    uint32_t input_vertex_count;
+    /**
+     * Face corners of the input mesh (`katachi_cut_interpolate_corner_data` reads this many
+     * values per component).
+     */
+    uint32_t input_corner_count;
+    /**
+     * Vertices added: split vertices, then copies made by opening.
+     */
+    uint32_t new_vertex_count;
+    /**
+     * Faces added (result faces minus the triangles of the input).
+     */
+    uint32_t new_face_count;
+    /**
+     * Triangles of the input that were split.
+     */
+    uint32_t split_face_count;
+    /**
+     * Vertices moved onto the stroke by snapping (`katachi_cut_copy_moved_vertices`).
+     */
+    uint32_t moved_vertex_count;
+    /**
+     * Stroke pieces after splitting at sharp corners.
+     */
+    uint32_t piece_count;
+    /**
+     * Cut paths (one per piece and sheet or visible stretch; `katachi_cut_copy_paths`).
+     */
+    uint32_t path_count;
+    /**
+     * Vertices over all paths (the sum of their lengths).
+     */
+    uint32_t path_vertex_count;
+    /**
+     * Stroke points dropped in preprocessing (`KATACHI_CUT_STAGE_PREPROCESSING`).
+     */
+    uint32_t dropped_preprocessing_count;
+    /**
+     * Stroke points dropped by the first normalization.
+     */
+    uint32_t dropped_first_normalization_count;
+    /**
+     * Stroke points dropped by the second normalization.
+     */
+    uint32_t dropped_second_normalization_count;
+    /**
+     * Stroke points over no face the cut may touch.
+     */
+    uint32_t dropped_off_mesh_count;
+    /**
+     * Vertices within snapping distance kept in place because moving them would flip or
+     * flatten a face.
+     */
+    uint32_t snaps_refused_count;
+    /**
+     * Piece ends inside a face, close to one of its edges, moved onto that edge.
+     */
+    uint32_t ends_moved_to_edges_count;
+    /**
+     * Faces under the stroke with vertices both behind and in front of the eye: never cut.
+     */
+    uint32_t clipped_face_count;
+    /**
+     * Faces near the stroke with zero area: never split by a path.
+     */
+    uint32_t degenerate_face_count;
+    /**
+     * Path stretches that follow a face's edges because their chord crossed another
+     * piece's path.
+     */
+    uint32_t rerouted_count;
+    /**
+     * Path stretches that could not be made edges (0 for a sound cut).
+     */
+    uint32_t unjoined_count;
+    /**
+     * The largest snapping move, in world units (0 when none).
+     */
+    double max_move_world;
+    /**
+     * The largest snapping move, in pixels (0 when none).
+     */
+    double max_move_px;
+    /**
+     * L: the mean on-screen length, in pixels, of the edges of the faces the stroke passes
+     * over (0 when it meets none).
+     */
+    double mean_edge_length_px;
+    /**
+     * The same edges' mean length in world units.
+     */
+    double mean_edge_length_world;
+} KatachiCutInfo;
 
 #ifdef __cplusplus
 extern "C" {
@@ -1008,6 +1252,208 @@ KatachiStatus katachi_tag_feature_edges(const struct KatachiMesh *mesh,
 KatachiStatus katachi_mesh_split_faces_with_holes(const struct KatachiMesh *mesh,
                                                   struct KatachiMesh **out,
                                                   uint32_t *face_origin,
+                                                  size_t capacity);
+
+/**
+ * A `KatachiCutOptions` holding the defaults (visible-only, not opened, no limit, the
+ * paper's snapping ratios 0.3, corners above 60°, 2 px between stroke points, depth
+ * tolerance 1e-4) and its `struct_size`.
+ */
+struct KatachiCutOptions katachi_cut_options_default(void);
+
+/**
+ * A `KatachiCutInfo` with its `struct_size` set and counts 0.
+ */
+struct KatachiCutInfo katachi_cut_info_default(void);
+
+/**
+ * Cuts `mesh` (never changed) along a stroke drawn over a view of it (seed 002: Mitani and
+ * Suzuki's stroke cut) and returns the result handle in `*out`. N-gons and faces with holes
+ * are triangulated first; the result is all triangles. Input vertex `v` is result vertex `v`
+ * (possibly moved onto the stroke by snapping), new vertices follow; triangle `t` of the
+ * triangulated input keeps slot `t`, pieces of split triangles are appended.
+ *
+ * - `stroke_px`: 2 × `point_count` doubles `x0 y0 x1 y1 …`, in pixels, drawing order.
+ * - `view_proj`: 16 doubles, the view-projection matrix in column-major order (OpenGL's
+ *   and glam's layout): `clip = view_proj · [x, y, z, 1]`.
+ * - `viewport`: 4 doubles `x0, y0, width, height` in pixels, in the stroke's convention.
+ *
+ * Conventions:
+ * - A point is in front of the eye iff `clip.w > 0`, and `ndc = clip.xyz / clip.w`.
+ * - OpenGL-style NDC: x right, y up, depth growing away from the eye (z in [-1, 1]). A
+ *   D3D-style matrix (z in [0, 1], y up) works unchanged: only the depth order is used. A
+ *   Vulkan-style matrix (y down in NDC) shows the mesh upside down against the stroke and
+ *   turns front faces into back faces: negate its second row first. A reversed-Z matrix
+ *   (near at z = 1) inverts visibility: pass a forward-Z one.
+ * - Pixels: origin at the viewport's TOP-LEFT corner, y DOWN (Blender's region coordinates
+ *   and OpenGL window coordinates must be flipped: `y = height - y_up`):
+ *   `s = (x0 + (ndc.x + 1)/2 · W, y0 + (1 − ndc.y)/2 · H)`.
+ * - Perspective and orthographic matrices go through the same formula.
+ *
+ * A stroke that meets no face succeeds with nothing cut (`path_count` 0 in
+ * `katachi_cut_info`).
+ *
+ * Statuses: `KATACHI_STATUS_OK`; `KATACHI_STATUS_NULL_POINTER` (`mesh`, `view_proj`,
+ * `viewport`, `options` or `out` NULL, or `stroke_px` NULL with `point_count` > 0);
+ * `KATACHI_STATUS_INVALID_ARGUMENT` (a bad option: `struct_size`, `mode`, `open`, a ratio,
+ * angle or distance out of its range); `KATACHI_STATUS_BAD_INPUT` (a NaN or infinite stroke
+ * point or matrix entry, fewer than two stroke points `min_stroke_px` apart, a stroke that
+ * crosses itself, a singular matrix, a viewport without area, an empty mesh, a cut that
+ * would split more than `max_faces_split` triangles); `KATACHI_STATUS_BAD_TOPOLOGY` (a
+ * non-manifold or inconsistently oriented edge near the stroke). On failure `*out` is NULL.
+ *
+ * # Safety
+ * `mesh` NULL or a live handle; `stroke_px` NULL or readable for 2 × `point_count` doubles;
+ * `view_proj` NULL or readable for 16 doubles, `viewport` for 4; `options` NULL or a readable
+ * `KatachiCutOptions`; `out` NULL or writable.
+ */
+KatachiStatus katachi_cut_by_stroke(const struct KatachiMesh *mesh,
+                                    const double *stroke_px,
+                                    uint32_t point_count,
+                                    const double *view_proj,
+                                    const double *viewport,
+                                    const struct KatachiCutOptions *options,
+                                    struct KatachiCut **out);
+
+/**
+ * Frees a result of `katachi_cut_by_stroke`. NULL is allowed and does nothing.
+ *
+ * # Safety
+ * `cut` NULL or a live handle, not used afterwards.
+ */
+void katachi_cut_free(struct KatachiCut *cut);
+
+/**
+ * Fills `*info` with the result's counts and the report's numbers. The caller sets
+ * `info->struct_size` first.
+ *
+ * # Safety
+ * `cut` NULL or a live handle; `info` NULL or writable for `info->struct_size` bytes.
+ */
+KatachiStatus katachi_cut_info(const struct KatachiCut *cut, struct KatachiCutInfo *info);
+
+/**
+ * A new mesh handle holding the cut mesh (all triangles); the caller frees it with
+ * `katachi_mesh_free`. On failure `*out` is NULL.
+ *
+ * # Safety
+ * `cut` NULL or a live handle; `out` NULL or writable.
+ */
+KatachiStatus katachi_cut_mesh(const struct KatachiCut *cut, struct KatachiMesh **out);
+
+/**
+ * Copies, for each face of the result, the face of the INPUT mesh it lies in (before
+ * triangulation), so materials and face data follow: `face_count` values.
+ *
+ * # Safety
+ * `cut` NULL or a live handle; `faces` NULL or writable for `capacity` values.
+ */
+KatachiStatus katachi_cut_copy_face_origin(const struct KatachiCut *cut,
+                                           uint32_t *faces,
+                                           size_t capacity);
+
+/**
+ * Copies the cut paths in compressed rows: `offsets` gets `path_count + 1` values (path `i`
+ * is `vertices[offsets[i] .. offsets[i + 1]]`), `vertices` gets `path_vertex_count` result
+ * vertex ids in stroke order; consecutive ones share an edge of the result. A closed path
+ * does not repeat its first vertex (its last edge joins last and first). When the cut was
+ * opened these are the ids before opening: the faces on one side of each path vertex kept
+ * the id, the others' corners moved to copies.
+ *
+ * # Safety
+ * `cut` NULL or a live handle; `offsets` and `vertices` NULL or writable for their
+ * capacities.
+ */
+KatachiStatus katachi_cut_copy_paths(const struct KatachiCut *cut,
+                                     uint32_t *offsets,
+                                     size_t offsets_capacity,
+                                     uint32_t *vertices,
+                                     size_t vertices_capacity);
+
+/**
+ * Copies, for each cut path, the stroke piece it belongs to (the stroke is split into
+ * pieces at sharp corners) into `pieces` and 1 if the path is closed (0 otherwise) into
+ * `closed`: `path_count` values each.
+ *
+ * # Safety
+ * `cut` NULL or a live handle; `pieces` and `closed` NULL or writable for `capacity` values.
+ */
+KatachiStatus katachi_cut_copy_path_pieces(const struct KatachiCut *cut,
+                                           uint32_t *pieces,
+                                           uint32_t *closed,
+                                           size_t capacity);
+
+/**
+ * Copies the vertices snapping moved onto the stroke (seed 002 §3.2), ascending id:
+ * `moved_vertex_count` ids into `vertices`, their positions before and after into
+ * `from_xyz` and `to_xyz` (3 doubles each, so 3 × `capacity` room), and the distance each
+ * moved on screen, in pixels, into `pixels`. A vertex moves parallel to the screen: its
+ * clip-space w and NDC depth are kept.
+ *
+ * # Safety
+ * `cut` NULL or a live handle; `vertices` and `pixels` NULL or writable for `capacity`
+ * values, `from_xyz` and `to_xyz` for 3 × `capacity`.
+ */
+KatachiStatus katachi_cut_copy_moved_vertices(const struct KatachiCut *cut,
+                                              uint32_t *vertices,
+                                              double *from_xyz,
+                                              double *to_xyz,
+                                              double *pixels,
+                                              size_t capacity);
+
+/**
+ * Copies the stroke points (indices into the caller's stroke, ascending) that the stage
+ * `stage` (a `KatachiCutStage`) set aside; the counts are in `katachi_cut_info`
+ * (`dropped_preprocessing_count` and so on).
+ *
+ * # Safety
+ * `cut` NULL or a live handle; `points` NULL or writable for `capacity` values.
+ */
+KatachiStatus katachi_cut_copy_dropped_points(const struct KatachiCut *cut,
+                                              uint32_t stage,
+                                              uint32_t *points,
+                                              size_t capacity);
+
+/**
+ * Carries per-corner data of the INPUT mesh (UVs, corner colours: `dim` doubles per corner,
+ * corner after corner in `katachi_mesh_copy_faces` order, so `value_count` =
+ * `input_corner_count` × `dim`) to the result's corners (`corner_count` × `dim` doubles into
+ * `out`). A result corner at an input vertex takes that vertex's value in the face it lies
+ * in, exactly; a new vertex takes the linear blend of its source triangle's corner values.
+ * Snapped vertices keep their values.
+ *
+ * Statuses: `KATACHI_STATUS_INVALID_ARGUMENT` when `dim` is 0 or `value_count` is not
+ * `input_corner_count` × `dim`; `KATACHI_STATUS_BUFFER_TOO_SMALL` when `capacity` is short
+ * (`(NULL, 0)` asks the size).
+ *
+ * # Safety
+ * `cut` NULL or a live handle; `values` NULL or readable for `value_count` doubles; `out`
+ * NULL or writable for `capacity` doubles.
+ */
+KatachiStatus katachi_cut_interpolate_corner_data(const struct KatachiCut *cut,
+                                                  const double *values,
+                                                  size_t value_count,
+                                                  uint32_t dim,
+                                                  double *out,
+                                                  size_t capacity);
+
+/**
+ * Carries per-vertex data of the INPUT mesh (colours, weights: `dim` doubles per vertex, so
+ * `value_count` = `input_vertex_count` × `dim`) to the result's vertices (`vertex_count` ×
+ * `dim` doubles into `out`): input vertices keep theirs, opening copies take their
+ * original's, new vertices the linear blend of their source triangle's vertices.
+ *
+ * Statuses: as `katachi_cut_interpolate_corner_data`, with vertex counts.
+ *
+ * # Safety
+ * `cut` NULL or a live handle; `values` NULL or readable for `value_count` doubles; `out`
+ * NULL or writable for `capacity` doubles.
+ */
+KatachiStatus katachi_cut_interpolate_vertex_data(const struct KatachiCut *cut,
+                                                  const double *values,
+                                                  size_t value_count,
+                                                  uint32_t dim,
+                                                  double *out,
                                                   size_t capacity);
 
 #ifdef __cplusplus

@@ -607,3 +607,470 @@ fn every_exported_function_runs_inside_the_panic_boundary() {
          (run `cargo xtask header`)"
     );
 }
+
+/// A 4 × 4 grid of unit squares in z = 0 (two counter-clockwise triangles each) and an
+/// orthographic view from above: world (x, y) is pixel (50 + 100 x, 450 − 100 y).
+fn cut_grid() -> Mesh {
+    let mut positions = Vec::new();
+    for j in 0..5 {
+        for i in 0..5 {
+            positions.extend([i as f64, j as f64, 0.0]);
+        }
+    }
+    let mut corners = Vec::new();
+    for j in 0..4u32 {
+        for i in 0..4u32 {
+            let v = j * 5 + i;
+            corners.extend([v, v + 1, v + 6, v, v + 6, v + 5]);
+        }
+    }
+    create(&positions, &[3; 32], &[1; 32], &corners)
+}
+
+const CUT_VIEW_PROJ: [f64; 16] = [
+    0.4, 0.0, 0.0, 0.0, 0.0, 0.4, 0.0, 0.0, 0.0, 0.0, -0.1, 0.0, -0.8, -0.8, 0.0, 1.0,
+];
+const CUT_VIEWPORT: [f64; 4] = [0.0, 0.0, 500.0, 500.0];
+const CUT_STROKE: [f64; 6] = [20.0, 330.0, 250.0, 235.0, 480.0, 140.0];
+
+/// Owns a cut handle for the test's duration.
+struct Cut(*mut KatachiCut);
+
+impl Drop for Cut {
+    fn drop(&mut self) {
+        unsafe { katachi_cut_free(self.0) }
+    }
+}
+
+fn cut(m: &Mesh, stroke: &[f64], options: &KatachiCutOptions) -> (KatachiStatus, Cut) {
+    let mut out = 1usize as *mut KatachiCut; // not NULL: must be reset on failure
+    let s = unsafe {
+        katachi_cut_by_stroke(
+            m.0,
+            stroke.as_ptr(),
+            (stroke.len() / 2) as u32,
+            CUT_VIEW_PROJ.as_ptr(),
+            CUT_VIEWPORT.as_ptr(),
+            options,
+            &mut out,
+        )
+    };
+    if s != KatachiStatus::Ok {
+        assert!(out.is_null(), "out must be NULL after a failure");
+    }
+    (s, Cut(out))
+}
+
+#[test]
+fn cut_by_stroke_through_the_abi() {
+    let m = cut_grid();
+    let before = snapshot(&m);
+    let o = katachi_cut_options_default();
+    assert_eq!(
+        o.struct_size as usize,
+        std::mem::size_of::<KatachiCutOptions>()
+    );
+    assert_eq!(o.mode, KatachiCutMode::VisibleOnly as u32);
+    assert_eq!(o.max_faces_split, u32::MAX);
+    let (s, c) = cut(&m, &CUT_STROKE, &o);
+    assert_eq!(s, KatachiStatus::Ok, "{}", message());
+    assert_eq!(snapshot(&m), before, "the input mesh is untouched");
+    let mut info = katachi_cut_info_default();
+    assert_eq!(
+        unsafe { katachi_cut_info(c.0, &mut info) },
+        KatachiStatus::Ok
+    );
+    assert_eq!((info.input_vertex_count, info.input_corner_count), (25, 96));
+    assert_eq!(info.vertex_count, 25 + info.new_vertex_count);
+    assert_eq!(info.face_count, 32 + info.new_face_count);
+    assert_eq!(info.corner_count, 3 * info.face_count);
+    assert_eq!((info.piece_count, info.path_count), (1, 1));
+    assert_eq!(info.unjoined_count, 0);
+
+    // The same cut through the kernel gives the same result.
+    let grid = {
+        let mut out = null_mut();
+        assert_eq!(
+            unsafe { katachi_cut_mesh(c.0, &mut out) },
+            KatachiStatus::Ok
+        );
+        Mesh(out)
+    };
+    let kernel = {
+        use glam::{DMat4, DVec2};
+        use katachi::cut::{cut_by_stroke, CutOptions, Stroke, View};
+        let mut positions = Vec::new();
+        for j in 0..5 {
+            for i in 0..5 {
+                positions.push(glam::DVec3::new(i as f64, j as f64, 0.0));
+            }
+        }
+        let mut faces = Vec::new();
+        for j in 0..4u32 {
+            for i in 0..4u32 {
+                let v = j * 5 + i;
+                faces.push(vec![v, v + 1, v + 6]);
+                faces.push(vec![v, v + 6, v + 5]);
+            }
+        }
+        let mesh = katachi::PolyMesh::from_polygons(positions, &faces).unwrap();
+        let stroke = Stroke::new(
+            CUT_STROKE
+                .chunks(2)
+                .map(|p| DVec2::new(p[0], p[1]))
+                .collect(),
+        );
+        let view = View::new(DMat4::from_cols_array(&CUT_VIEW_PROJ), CUT_VIEWPORT);
+        cut_by_stroke(&mesh, &stroke, &view, &CutOptions::default()).unwrap()
+    };
+    let got = snapshot(&grid);
+    let want: Vec<f64> = kernel
+        .mesh
+        .positions()
+        .iter()
+        .flat_map(|p| p.to_array())
+        .collect();
+    assert_eq!(got.positions, want);
+    assert_eq!(
+        got.faces.2,
+        kernel
+            .mesh
+            .corners()
+            .iter()
+            .map(|v| v.0)
+            .collect::<Vec<_>>()
+    );
+
+    // Copy-out calls: sizes from info, short buffers refused untouched.
+    let mut origin = vec![7u32; info.face_count as usize];
+    let short = origin.len() - 1;
+    assert_eq!(
+        unsafe { katachi_cut_copy_face_origin(c.0, origin.as_mut_ptr(), short) },
+        KatachiStatus::BufferTooSmall
+    );
+    assert!(origin.iter().all(|&f| f == 7));
+    assert_eq!(
+        unsafe { katachi_cut_copy_face_origin(c.0, origin.as_mut_ptr(), origin.len()) },
+        KatachiStatus::Ok
+    );
+    let want: Vec<u32> = kernel.face_origin.iter().map(|f| f.0).collect();
+    assert_eq!(origin, want);
+    let mut offsets = vec![0u32; info.path_count as usize + 1];
+    let mut path = vec![0u32; info.path_vertex_count as usize];
+    assert_eq!(
+        unsafe {
+            katachi_cut_copy_paths(
+                c.0,
+                offsets.as_mut_ptr(),
+                offsets.len(),
+                path.as_mut_ptr(),
+                path.len(),
+            )
+        },
+        KatachiStatus::Ok
+    );
+    let want: Vec<u32> = kernel.report.paths[0]
+        .vertices
+        .iter()
+        .map(|v| v.0)
+        .collect();
+    assert_eq!(path, want);
+    assert_eq!(offsets, [0, want.len() as u32]);
+    let (mut pieces, mut closed) = ([9u32], [9u32]);
+    assert_eq!(
+        unsafe { katachi_cut_copy_path_pieces(c.0, pieces.as_mut_ptr(), closed.as_mut_ptr(), 1) },
+        KatachiStatus::Ok
+    );
+    assert_eq!((pieces, closed), ([0], [0]));
+    let n = info.moved_vertex_count as usize;
+    let (mut v, mut from, mut to, mut px) = (
+        vec![0u32; n],
+        vec![0.0; 3 * n],
+        vec![0.0; 3 * n],
+        vec![0.0; n],
+    );
+    assert_eq!(
+        unsafe {
+            katachi_cut_copy_moved_vertices(
+                c.0,
+                v.as_mut_ptr(),
+                from.as_mut_ptr(),
+                to.as_mut_ptr(),
+                px.as_mut_ptr(),
+                n,
+            )
+        },
+        KatachiStatus::Ok
+    );
+    for (i, mv) in kernel.report.moved.iter().enumerate() {
+        assert_eq!(v[i], mv.vertex.0);
+        assert_eq!(&from[3 * i..3 * i + 3], &mv.from.to_array());
+        assert_eq!(&to[3 * i..3 * i + 3], &mv.to.to_array());
+        assert_eq!(px[i], mv.pixels);
+    }
+    for (stage, list, count) in [
+        (
+            KatachiCutStage::Preprocessing,
+            &kernel.report.dropped.preprocessing,
+            info.dropped_preprocessing_count,
+        ),
+        (
+            KatachiCutStage::FirstNormalization,
+            &kernel.report.dropped.first_normalization,
+            info.dropped_first_normalization_count,
+        ),
+        (
+            KatachiCutStage::SecondNormalization,
+            &kernel.report.dropped.second_normalization,
+            info.dropped_second_normalization_count,
+        ),
+        (
+            KatachiCutStage::OffMesh,
+            &kernel.report.dropped.off_mesh,
+            info.dropped_off_mesh_count,
+        ),
+    ] {
+        let mut buf = vec![0u32; count as usize];
+        assert_eq!(
+            unsafe {
+                katachi_cut_copy_dropped_points(c.0, stage as u32, buf.as_mut_ptr(), buf.len())
+            },
+            KatachiStatus::Ok
+        );
+        assert_eq!(&buf, list, "{stage:?}");
+    }
+    assert_eq!(
+        unsafe { katachi_cut_copy_dropped_points(c.0, 4, null_mut(), 0) },
+        KatachiStatus::InvalidArgument
+    );
+    assert!(
+        message().starts_with("katachi_cut_copy_dropped_points: stage is 4, which is not one of"),
+        "{}",
+        message()
+    );
+}
+
+#[test]
+fn cut_options_and_bad_strokes_are_named() {
+    let m = cut_grid();
+    let before = snapshot(&m);
+    let d = katachi_cut_options_default();
+    let cases: Vec<(KatachiCutOptions, Vec<f64>, KatachiStatus, &str)> = vec![
+        (
+            KatachiCutOptions { mode: 7, ..d },
+            CUT_STROKE.to_vec(),
+            KatachiStatus::InvalidArgument,
+            "katachi_cut_by_stroke: options->mode is 7, which is not one of \
+             KATACHI_CUT_MODE_VISIBLE_ONLY (0), KATACHI_CUT_MODE_THROUGH_ALL (1)",
+        ),
+        (
+            KatachiCutOptions {
+                struct_size: 4,
+                ..d
+            },
+            CUT_STROKE.to_vec(),
+            KatachiStatus::InvalidArgument,
+            "options->struct_size is 4",
+        ),
+        (
+            KatachiCutOptions { open: 3, ..d },
+            CUT_STROKE.to_vec(),
+            KatachiStatus::InvalidArgument,
+            "options->open is 3, which is not one of 0, 1",
+        ),
+        (
+            KatachiCutOptions {
+                snap_segment_ratio: f64::NAN,
+                ..d
+            },
+            CUT_STROKE.to_vec(),
+            KatachiStatus::InvalidArgument,
+            "options->snap_segment_ratio: NaN",
+        ),
+        (
+            KatachiCutOptions {
+                corner_angle_degrees: -1.0,
+                ..d
+            },
+            CUT_STROKE.to_vec(),
+            KatachiStatus::InvalidArgument,
+            "options->corner_angle_degrees: -1",
+        ),
+        (
+            KatachiCutOptions {
+                depth_eps_rel: -1.0,
+                ..d
+            },
+            CUT_STROKE.to_vec(),
+            KatachiStatus::InvalidArgument,
+            "options->depth_eps_rel",
+        ),
+        (
+            KatachiCutOptions {
+                max_faces_split: 1,
+                ..d
+            },
+            CUT_STROKE.to_vec(),
+            KatachiStatus::BadInput,
+            "more than the limit of 1 (max_faces_split)",
+        ),
+        (
+            d,
+            vec![20.0, 330.0],
+            KatachiStatus::BadInput,
+            "a cut needs at least 2",
+        ),
+        (
+            d,
+            vec![20.0, 330.0, f64::NAN, 1.0],
+            KatachiStatus::BadInput,
+            "stroke point 1: coordinate x is NaN",
+        ),
+        (
+            d,
+            vec![100.0, 100.0, 400.0, 400.0, 400.0, 100.0, 100.0, 400.0],
+            KatachiStatus::BadInput,
+            "the stroke crosses itself",
+        ),
+    ];
+    for (o, stroke, status, expect) in cases {
+        let (s, _c) = cut(&m, &stroke, &o);
+        assert_eq!(s, status, "{expect}: {}", message());
+        assert!(
+            message().contains(expect),
+            "{} should contain {expect}",
+            message()
+        );
+    }
+    // A singular matrix.
+    let mut out = null_mut();
+    let s = unsafe {
+        katachi_cut_by_stroke(
+            m.0,
+            CUT_STROKE.as_ptr(),
+            3,
+            [0.0; 16].as_ptr(),
+            CUT_VIEWPORT.as_ptr(),
+            &d,
+            &mut out,
+        )
+    };
+    assert_eq!(s, KatachiStatus::BadInput);
+    assert!(message().contains("singular"), "{}", message());
+    assert!(out.is_null());
+    // NULLs are named.
+    let s = unsafe {
+        katachi_cut_by_stroke(
+            m.0,
+            null(),
+            3,
+            CUT_VIEW_PROJ.as_ptr(),
+            CUT_VIEWPORT.as_ptr(),
+            &d,
+            &mut out,
+        )
+    };
+    assert_eq!(s, KatachiStatus::NullPointer);
+    assert_eq!(
+        message(),
+        "katachi_cut_by_stroke: stroke_px is NULL but point_count is 3"
+    );
+    assert_eq!(
+        snapshot(&m),
+        before,
+        "failing cuts leave the mesh untouched"
+    );
+}
+
+#[test]
+fn cut_data_interpolation_checks_its_counts() {
+    let m = cut_grid();
+    let (s, c) = cut(&m, &CUT_STROKE, &katachi_cut_options_default());
+    assert_eq!(s, KatachiStatus::Ok, "{}", message());
+    let mut info = katachi_cut_info_default();
+    assert_eq!(
+        unsafe { katachi_cut_info(c.0, &mut info) },
+        KatachiStatus::Ok
+    );
+    let values = vec![1.5; 96 * 2];
+    let mut out = vec![0.0; 2 * info.corner_count as usize];
+    let s = unsafe {
+        katachi_cut_interpolate_corner_data(
+            c.0,
+            values.as_ptr(),
+            95 * 2,
+            2,
+            out.as_mut_ptr(),
+            out.len(),
+        )
+    };
+    assert_eq!(s, KatachiStatus::InvalidArgument);
+    assert_eq!(
+        message(),
+        "katachi_cut_interpolate_corner_data: value_count is 190, but the input mesh has 96 \
+         corners × dim 2 = 192"
+    );
+    assert!(out.iter().all(|&x| x == 0.0));
+    // A constant stays constant.
+    let s = unsafe {
+        katachi_cut_interpolate_corner_data(
+            c.0,
+            values.as_ptr(),
+            values.len(),
+            2,
+            out.as_mut_ptr(),
+            out.len(),
+        )
+    };
+    assert_eq!(s, KatachiStatus::Ok, "{}", message());
+    assert!(out.iter().all(|&x| (x - 1.5).abs() < 1e-15));
+    let values = [2.0; 25];
+    let mut out = vec![0.0; info.vertex_count as usize];
+    let s = unsafe {
+        katachi_cut_interpolate_vertex_data(
+            c.0,
+            values.as_ptr(),
+            25,
+            0,
+            out.as_mut_ptr(),
+            out.len(),
+        )
+    };
+    assert_eq!(s, KatachiStatus::InvalidArgument);
+    assert!(message().contains("dim is 0"), "{}", message());
+    let s = unsafe {
+        katachi_cut_interpolate_vertex_data(
+            c.0,
+            values.as_ptr(),
+            25,
+            1,
+            out.as_mut_ptr(),
+            out.len(),
+        )
+    };
+    assert_eq!(s, KatachiStatus::Ok, "{}", message());
+    assert!(out.iter().all(|&x| (x - 2.0).abs() < 1e-15));
+}
+
+#[test]
+fn the_header_states_the_cut_conventions() {
+    let header =
+        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("include/katachi.h"))
+            .unwrap();
+    for needle in [
+        "column-major",
+        "clip.w > 0",
+        "OpenGL-style NDC",
+        "D3D-style",
+        "Vulkan-style",
+        "reversed-Z",
+        "TOP-LEFT corner, y DOWN",
+        "KATACHI_CUT_MODE_THROUGH_ALL = 1",
+        "KATACHI_CUT_STAGE_OFF_MESH = 3",
+    ] {
+        assert!(
+            header.contains(needle),
+            "include/katachi.h should say {needle:?}"
+        );
+    }
+}

@@ -1,8 +1,9 @@
 //! The C ABI, declared in `include/katachi.h` (generated from this module by the pinned
 //! cbindgen: `cargo xtask header`).
 //!
-//! One file per kernel module ([`mesh`], [`inspect`], [`io`]) plus the frame ([`status`],
-//! [`version`] and the private `boundary`), and nothing but conversion and error mapping:
+//! One file per kernel module ([`mesh`], [`inspect`], [`io`], [`subdivide`], [`cut`]) plus
+//! the frame ([`status`], [`version`] and the private `boundary`), and nothing but conversion
+//! and error mapping:
 //!
 //! - every function returns a `KatachiStatus` (a few return a value that cannot fail), and
 //!   `katachi_last_error_message()` gives the calling thread's last message;
@@ -32,6 +33,9 @@ pub mod io;
 
 pub mod subdivide;
 
+pub mod cut;
+
+pub use cut::*;
 pub use inspect::*;
 pub use io::*;
 pub use mesh::*;

@@ -3,7 +3,7 @@
 //! Builds the cdylib (`cargo build -p katachi --lib`), compiles every `tests/c/*.c` with
 //! `gcc -std=c99 -Wall -Wextra -Werror -pedantic` and every `tests/c/*.cpp` with
 //! `g++ -std=c++17 -Wall -Wextra -Werror` against `include/katachi.h`, links each to
-//! `libkatachi.so` (with an rpath, so no `LD_LIBRARY_PATH` is needed; `mesh_api` is also
+//! `libkatachi.so` and libm (with an rpath, so no `LD_LIBRARY_PATH` is needed; `mesh_api` is also
 //! linked to `libkatachi.a` as `mesh_api_static`), and runs each under
 //! `valgrind --error-exitcode=1 --leak-check=full --errors-for-leak-kinds=definite,possible`.
 //! Fails if a tool is missing (naming the Debian package), a program does not compile, exits
@@ -219,7 +219,9 @@ fn compile(p: &Program, exe: &Path, lib_dir: &Path) -> Result<(), String> {
         cmd.arg("-L")
             .arg(lib_dir)
             .arg("-lkatachi")
-            .arg(format!("-Wl,-rpath,{}", lib_dir.display()));
+            .arg(format!("-Wl,-rpath,{}", lib_dir.display()))
+            // The tests' own math (sqrt, hypot, cos): libm is not implied in C.
+            .arg("-lm");
     }
     run_cmd(&mut cmd).map_err(|e| format!("compiling {}: {e}", p.source.display()))
 }

@@ -3,6 +3,7 @@
 
 use std::path::Path;
 
+use glam::{DMat4, DVec2, DVec3};
 use indicatif::{ProgressBar, ProgressStyle};
 use katachi::mesh::{inspect, shapes};
 use katachi::subdivide::holes::split_faces_with_holes;
@@ -99,6 +100,7 @@ pub fn run(out: &Path) -> Result<(), Error> {
     }
     bar.finish_and_clear();
     lines.extend(subdivision(out)?);
+    lines.extend(stroke_cut(out)?);
     for l in &lines {
         println!("{l}");
     }
@@ -173,5 +175,84 @@ fn subdivision(out: &Path) -> Result<Vec<String>, Error> {
             }
         ));
     }
+    Ok(lines)
+}
+
+/// Stroke cut (seed 002): a wavy stroke drawn over a perspective view of the fandisk, cut
+/// visible-only (the faces seen) and again opened. The stroke and camera are written beside
+/// the results as `fandisk_quads.stroke.json`, which `katachi cut` reads back:
+/// `katachi cut input/fandisk_quads.off again.obj --stroke fandisk_quads.stroke.json`.
+fn stroke_cut(out: &Path) -> Result<Vec<String>, Error> {
+    let name = "fandisk_quads";
+    let mesh = io::read_bytes(
+        include_bytes!("../../../examples/models/fandisk_quads.off"),
+        io::Format::Off,
+        Path::new("fandisk_quads.off"),
+    )?;
+    let (lo, hi) = mesh
+        .positions()
+        .iter()
+        .fold((DVec3::MAX, DVec3::MIN), |(lo, hi), &p| {
+            (lo.min(p), hi.max(p))
+        });
+    let (centre, radius) = ((lo + hi) / 2.0, (hi - lo).length() / 2.0);
+    let (width, height) = (800.0, 600.0);
+    let eye = centre + DVec3::new(0.45, 0.35, 1.0).normalize() * 3.0 * radius;
+    let view_proj = DMat4::perspective_rh_gl(
+        40f64.to_radians(),
+        width / height,
+        0.1 * radius,
+        10.0 * radius,
+    ) * DMat4::look_at_rh(eye, centre, DVec3::Y);
+    // Left to right across the middle of the picture, one and a half waves.
+    let stroke: Vec<DVec2> = (0..48)
+        .map(|i| {
+            let t = i as f64 / 47.0;
+            DVec2::new(
+                width * (0.2 + 0.6 * t),
+                height * (0.5 + 0.08 * (3.0 * std::f64::consts::PI * t).sin()),
+            )
+        })
+        .collect();
+    let file = crate::cut::StrokeFile {
+        stroke,
+        view_proj,
+        viewport: [0.0, 0.0, width, height],
+        mode: Some(crate::cut::Mode::VisibleOnly),
+        open: Some(false),
+    };
+    let stroke_path = out.join(format!("{name}.stroke.json"));
+    write_file(&stroke_path, file.to_json().as_bytes())?;
+    let mut lines = Vec::new();
+    let r = crate::cut::cut(&mesh, &file, crate::cut::Mode::VisibleOnly, false)?;
+    io::write(&out.join(format!("{name}.cut.obj")), &r.mesh)?;
+    lines.push(format!(
+        "{name}: stroke cut (visible-only) along {} points from {}: {} -> {} faces, {} path(s) \
+         of {} vertices, {} vertices snapped onto the stroke (largest move {:.2} px)",
+        file.stroke.len(),
+        stroke_path
+            .file_name()
+            .and_then(|n| n.to_str())
+            .unwrap_or_default(),
+        mesh.face_count(),
+        r.mesh.face_count(),
+        r.report.paths.len(),
+        r.report
+            .paths
+            .iter()
+            .map(|p| p.vertices.len())
+            .sum::<usize>(),
+        r.report.moved.len(),
+        r.report.max_move_px,
+    ));
+    let r = crate::cut::cut(&mesh, &file, crate::cut::Mode::VisibleOnly, true)?;
+    io::write(&out.join(format!("{name}.cut_open.obj")), &r.mesh)?;
+    let report = inspect(&r.mesh)?;
+    lines.push(format!(
+        "{name}: the same cut opened: {} -> {} vertices, {} boundary loop(s) (a slit)",
+        mesh.vertex_count(),
+        r.mesh.vertex_count(),
+        report.boundary_loops,
+    ));
     Ok(lines)
 }

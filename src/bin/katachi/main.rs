@@ -8,6 +8,7 @@ use clap::{Parser, Subcommand};
 use katachi::mesh::{inspect, MeshReport};
 use katachi::{io, Error};
 
+mod cut;
 mod demo;
 mod subdivide;
 
@@ -34,6 +35,9 @@ enum Command {
     },
     /// Catmull-Clark subdivision, solid-aware (creases, faces with holes; seed 001).
     Subdivide(subdivide::Args),
+    /// Cut a mesh along a stroke drawn over a view of it (seed 002); the stroke and camera
+    /// come from a JSON file.
+    Cut(cut::Args),
     /// Run every operation on the bundled example models and write the results.
     Demo {
         /// Directory for the results (created if missing).
@@ -85,6 +89,7 @@ fn run(command: Command) -> Result<(), Error> {
             Ok(())
         }
         Command::Subdivide(args) => subdivide::run(&args),
+        Command::Cut(args) => cut::run(&args),
         Command::Demo { out } => demo::run(&out),
     }
 }

@@ -1,4 +1,5 @@
-// katachi MeshLab plugin: the filter "katachi: Solid-aware subdivision".
+// katachi MeshLab plugin: the filters "katachi: Solid-aware subdivision" and
+// "katachi: Cut by polyline".
 //
 // Built against MeshLab 2020.09 (MeshFilterInterface), the version Debian 12 ships and the
 // one the tests run. MeshLab 2022.02 and later replaced that interface with FilterPlugin;
@@ -39,7 +40,7 @@ class KatachiFilterPlugin : public QObject, public MeshFilterInterface
 #endif
 
 public:
-    enum { FP_KATACHI_SUBDIVIDE };
+    enum { FP_KATACHI_SUBDIVIDE, FP_KATACHI_CUT };
 
     KatachiFilterPlugin();
 
@@ -71,10 +72,15 @@ public:
 #endif
 
 private:
-    void addParameters(RichParameterList &par) const;
-    /// Runs the filter; on failure returns false with `error` set and the document unchanged.
+    void addParameters(int filter, const MeshDocument &md, RichParameterList &par) const;
+    /// Runs filter `filter`; on failure returns false with `error` set and the document
+    /// unchanged.
+    bool run(int filter, MeshDocument &md, const RichParameterList &par, vcg::CallBackPos *cb,
+             QString &error);
     bool subdivide(MeshDocument &md, const RichParameterList &par, vcg::CallBackPos *cb,
                    QString &error);
+    bool cutByPolyline(MeshDocument &md, const RichParameterList &par, vcg::CallBackPos *cb,
+                       QString &error);
     void note(const QString &message);
 };
 

@@ -1,6 +1,8 @@
 #!/bin/sh
 # Takes docs/images/meshlab_subdivide.png (the filter's parameter dialog) and
-# docs/images/meshlab_subdivide_result.png (after Apply) in MeshLab 2020.09 under Xvfb.
+# docs/images/meshlab_subdivide_result.png (after Apply), then docs/images/meshlab_cut.png
+# and meshlab_cut_result.png (katachi: Cut by polyline on fandisk.off, the view taken from
+# the 3D view, the cut's vertices selected) in MeshLab 2020.09 under Xvfb.
 #
 # Not part of `cargo xtask test`: it drives the GUI by screen coordinates (xdotool), which
 # depend on MeshLab's layout at 1280x900. Needs the private prefix that
@@ -32,7 +34,7 @@ xvfb-run -a -s "-screen 0 1280x900x24" sh -c '
     sleep 2
     xdotool mousemove 275 161 click 1     # Remeshing, Simplification and Reconstruction
     sleep 2
-    xdotool mousemove 935 112 click 1     # katachi: Solid-aware subdivision
+    xdotool mousemove 935 137 click 1     # katachi: Solid-aware subdivision
     sleep 3
     import -window root -crop 1280x860+0+0 "$3/meshlab_subdivide.png"
     xdotool mousemove 336 460 click 1     # Apply
@@ -41,3 +43,29 @@ xvfb-run -a -s "-screen 0 1280x900x24" sh -c '
     kill $gui
 ' sh "$prefix" "$model" "$root/docs/images"
 echo "wrote $root/docs/images/meshlab_subdivide.png and meshlab_subdivide_result.png"
+
+xvfb-run -a -s "-screen 0 1280x900x24" sh -c '
+    "$1/bin/meshlab" "$2" >/dev/null 2>&1 &
+    gui=$!
+    sleep 10
+    win=$(xdotool search --name MeshLab | tail -1)
+    xdotool windowsize "$win" 1280 860 windowmove "$win" 0 0
+    sleep 2
+    xdotool mousemove 120 10 click 1      # Filters
+    sleep 2
+    xdotool mousemove 275 161 click 1     # Remeshing, Simplification and Reconstruction
+    sleep 2
+    xdotool mousemove 905 112 click 1     # katachi: Cut by polyline
+    sleep 3
+    xdotool mousemove 280 360 click 1     # Stroke (pixels)
+    xdotool type --delay 30 "150 400; 450 420; 750 400"
+    sleep 1
+    xdotool mousemove 340 520 click 1     # Apply (the view: the 3D view, by default)
+    sleep 5
+    import -window root -crop 1280x860+0+0 "$3/meshlab_cut.png"
+    xdotool mousemove 118 520 click 1     # Close
+    sleep 2
+    import -window root -crop 860x760+0+70 "$3/meshlab_cut_result.png"
+    kill $gui
+' sh "$prefix" "$root/../shared/data/models/fandisk.off" "$root/docs/images"
+echo "wrote $root/docs/images/meshlab_cut.png and meshlab_cut_result.png"

@@ -24,7 +24,13 @@
 //!    options (see [`compare`] for what "the same" means);
 //! 4. bad input (a face with a repeated vertex, a NaN coordinate, 9 levels) through
 //!    meshlabserver: it exits with an error, not a signal, prints katachi's message and
-//!    writes no output.
+//!    writes no output;
+//! 5. the cut by polyline through meshlabserver, with the view as MeshLab's camera XML and
+//!    the stroke in the script, on a grid (orthographic, opened) and on `fandisk.off`
+//!    (perspective, visible-only and through-all, new layer and in place): compared with
+//!    `katachi cut` given the same mesh, stroke (flipped to katachi's top-left pixels) and the
+//!    view-projection matrix the filter logs ([`compare_indexed`]: vertex for vertex, triangle
+//!    for triangle); and bad cuts (a self-crossing stroke, no view) refused like 4.
 
 use std::collections::HashMap;
 use std::fmt::Write as _;
@@ -46,8 +52,9 @@ const BUILD_TOOLS: [(&str, &str); 5] = [
 ];
 const TEST_TOOLS: [(&str, &str); 2] = [("meshlabserver", "meshlab"), ("xvfb-run", "xvfb")];
 
-/// The filter's name, as scripts and menus show it.
+/// The filters' names, as scripts and menus show them.
 const FILTER: &str = "katachi: Solid-aware subdivision";
+const CUT_FILTER: &str = "katachi: Cut by polyline";
 
 pub fn run(args: &[&str]) -> Result<(), String> {
     match args {
@@ -496,13 +503,124 @@ pub fn test() -> Result<(), String> {
         ),
     ];
     for (name, text, opts, message) in &bad {
-        checks += run_bad_case(&meshlabserver, &work, name, text, opts, message)?;
+        checks += run_bad_case(
+            &meshlabserver,
+            &work,
+            name,
+            text,
+            &opts.mlx(),
+            FILTER,
+            message,
+        )?;
+    }
+
+    // The cut by polyline.
+    let grid = work.join("grid_10.off");
+    std::fs::write(&grid, grid_off(10)).map_err(|e| format!("{}: {e}", grid.display()))?;
+    // MeshLab reads floats: the CLI gets the same numbers (fandisk's rounded to f32).
+    let fandisk = work.join("fandisk_f32.off");
+    let fandisk_mesh = read_off(&model("fandisk.off")?)?;
+    std::fs::write(&fandisk, off_f32(&fandisk_mesh))
+        .map_err(|e| format!("{}: {e}", fandisk.display()))?;
+    let top = Camera::looking_at([5.0, 5.0, 10.0], [5.0, 5.0, 0.0], [0.0, 1.0, 0.0], true);
+    let (lo, hi) = bounding_box(&fandisk_mesh.positions);
+    let centre = [0, 1, 2].map(|k| 0.5 * (lo[k] + hi[k]));
+    let size = (0..3).map(|k| hi[k] - lo[k]).fold(0.0, f64::max);
+    let eye = [
+        centre[0] + 1.2 * size,
+        centre[1] + 0.9 * size,
+        centre[2] + 1.6 * size,
+    ];
+    let oblique = Camera::looking_at(eye, centre, [0.0, 0.0, 1.0], false);
+    let grid_stroke = wavy_stroke(20.0, 580.0, 300.0, 9, 40.0);
+    let fandisk_stroke = wavy_stroke(40.0, 760.0, 310.0, 25, 30.0);
+    let cut_cases = [
+        CutCase {
+            name: "cut_grid_ortho_open",
+            input: grid.clone(),
+            camera: top.clone(),
+            stroke: grid_stroke.clone(),
+            through_all: false,
+            open: true,
+            new_layer: true,
+        },
+        CutCase {
+            name: "cut_fandisk_visible",
+            input: fandisk.clone(),
+            camera: oblique.clone(),
+            stroke: fandisk_stroke.clone(),
+            through_all: false,
+            open: false,
+            new_layer: true,
+        },
+        CutCase {
+            name: "cut_fandisk_through_all_inplace",
+            input: fandisk.clone(),
+            camera: oblique.clone(),
+            stroke: fandisk_stroke.clone(),
+            through_all: true,
+            open: false,
+            new_layer: false,
+        },
+    ];
+    for case in &cut_cases {
+        checks += run_cut_case(&meshlabserver, &katachi, &work, case)?;
+    }
+    let crossing = vec![
+        [100.0, 100.0],
+        [500.0, 500.0],
+        [500.0, 100.0],
+        [100.0, 500.0],
+    ];
+    let grid_text = grid_off(10);
+    let bad_cuts = [
+        (
+            "cut_self_crossing",
+            CutCase {
+                name: "cut_self_crossing",
+                input: grid.clone(),
+                camera: top.clone(),
+                stroke: crossing,
+                through_all: false,
+                open: false,
+                new_layer: true,
+            }
+            .mlx(),
+            "katachi_cut_by_stroke: the stroke crosses itself",
+        ),
+        (
+            "cut_no_view",
+            CutCase {
+                name: "cut_no_view",
+                input: grid.clone(),
+                camera: top.clone(),
+                stroke: grid_stroke.clone(),
+                through_all: false,
+                open: false,
+                new_layer: false,
+            }
+            .mlx()
+            .replace(&xml_escape(&top.vcg_camera_xml()), ""),
+            "katachi: the view has no viewport",
+        ),
+    ];
+    for (name, script, message) in &bad_cuts {
+        checks += run_bad_case(
+            &meshlabserver,
+            &work,
+            name,
+            &grid_text,
+            script,
+            CUT_FILTER,
+            message,
+        )?;
     }
     eprintln!(
         "xtask: meshlab-plugin: all passed: harness {harness_checks} checks, meshlabserver {} \
-         comparisons with the CLI and {} error cases ({checks} checks)",
+         subdivisions and {} cuts compared with the CLI, {} error cases ({checks} checks)",
         cases.len(),
-        bad.len()
+        cut_cases.len(),
+        bad.len() + bad_cuts.len()
     );
     Ok(())
 }
@@ -746,14 +864,15 @@ fn run_bad_case(
     work: &Path,
     name: &str,
     text: &str,
-    opts: &Opts,
+    script_text: &str,
+    filter: &str,
     message: &str,
 ) -> Result<usize, String> {
     use std::os::unix::process::ExitStatusExt;
     let input = work.join(format!("{name}.off"));
     std::fs::write(&input, text).map_err(|e| format!("{}: {e}", input.display()))?;
     let script = work.join(format!("{name}.mlx"));
-    std::fs::write(&script, opts.mlx()).map_err(|e| format!("{}: {e}", script.display()))?;
+    std::fs::write(&script, script_text).map_err(|e| format!("{}: {e}", script.display()))?;
     let output = work.join(format!("{name}_meshlab.off"));
     let out = capture(&mut meshlabserver_cmd(server, &input, &output, &script))?;
     let log = format!(
@@ -777,7 +896,7 @@ fn run_bad_case(
     if !log.contains(message) {
         problems.push(format!("the output lacks katachi's message `{message}`"));
     }
-    if !log.contains(&format!("Problem with filter: {FILTER}")) {
+    if !log.contains(&format!("Problem with filter: {filter}")) {
         problems.push("the output lacks meshlabserver's `Problem with filter` line".into());
     }
     if output.exists() {
@@ -825,6 +944,374 @@ fn plate_with_hole_off() -> String {
     }
     for [a, b, c, d] in quads {
         let _ = writeln!(s, "3 {a} {b} {c}\n3 {a} {c} {d}");
+    }
+    s
+}
+
+/// A camera in MeshLab's terms (vcg::Shot), written as the `<VCGCamera …/>` element that
+/// MeshLab's Windows ▸ Copy shot and its project files hold.
+#[derive(Debug, Clone, PartialEq)]
+struct Camera {
+    /// The viewpoint.
+    eye: [f64; 3],
+    /// The rotation's rows: the camera's x (right), y (up) and z (backwards) axes.
+    rows: [[f64; 3]; 3],
+    orthographic: bool,
+    viewport: [u32; 2],
+    pixel_mm: f64,
+    focal_mm: f64,
+}
+
+impl Camera {
+    /// A camera at `eye` looking at `target` with `up` up: orthographic 600 × 600 pixels
+    /// covering 12 units, or perspective 800 × 600 pixels with a 40° vertical field of view
+    /// (MeshLab's pixel size).
+    fn looking_at(eye: [f64; 3], target: [f64; 3], up: [f64; 3], orthographic: bool) -> Camera {
+        let z = normalize(sub(eye, target));
+        let x = normalize(cross(up, z));
+        let y = cross(z, x);
+        let (viewport, pixel_mm, focal_mm) = if orthographic {
+            ([600, 600], 12.0 / 600.0, 1.0)
+        } else {
+            let pixel_mm = 0.036_916_077;
+            let focal = 600.0 * pixel_mm / (2.0 * 20f64.to_radians().tan());
+            ([800, 600], pixel_mm, focal)
+        };
+        Camera {
+            eye,
+            rows: [x, y, z],
+            orthographic,
+            viewport,
+            pixel_mm,
+            focal_mm,
+        }
+    }
+
+    /// The `<VCGCamera …/>` element (vcg's text form: the translation vector is minus the
+    /// viewpoint, the rotation matrix row after row).
+    fn vcg_camera_xml(&self) -> String {
+        let [x, y, z] = self.rows;
+        let [w, h] = self.viewport;
+        format!(
+            "<VCGCamera TranslationVector=\"{} {} {} 1\" RotationMatrix=\"{} {} {} 0 {} {} {} 0 {} {} {} 0 0 0 0 1\" \
+             CameraType=\"{}\" BinaryData=\"0\" FocalMm=\"{}\" LensDistortion=\"0 0\" PixelSizeMm=\"{} {}\" \
+             ViewportPx=\"{w} {h}\" CenterPx=\"{} {}\"/>",
+            -self.eye[0],
+            -self.eye[1],
+            -self.eye[2],
+            x[0],
+            x[1],
+            x[2],
+            y[0],
+            y[1],
+            y[2],
+            z[0],
+            z[1],
+            z[2],
+            u8::from(self.orthographic),
+            self.focal_mm,
+            self.pixel_mm,
+            self.pixel_mm,
+            f64::from(w) / 2.0,
+            f64::from(h) / 2.0,
+        )
+    }
+}
+
+fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+
+fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+
+fn normalize(a: [f64; 3]) -> [f64; 3] {
+    let n = (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
+    [a[0] / n, a[1] / n, a[2] / n]
+}
+
+/// Text for an XML attribute value.
+fn xml_escape(s: &str) -> String {
+    s.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+        .replace('"', "&quot;")
+}
+
+/// A polyline from x0 to x1 around height y (vcg pixels, y up) through `n` points, waving
+/// by up to `amplitude` pixels; x grows, so it never crosses itself.
+fn wavy_stroke(x0: f64, x1: f64, y: f64, n: usize, amplitude: f64) -> Vec<[f64; 2]> {
+    (0..n)
+        .map(|i| {
+            let t = i as f64 / (n - 1) as f64;
+            let x = x0 + (x1 - x0) * t;
+            // Rounded to 1/4 pixel: the same numbers in the script and in the CLI's file.
+            let wave = (amplitude * (0.9 * i as f64).sin() * 4.0).round() / 4.0;
+            [(x * 4.0).round() / 4.0, y + wave]
+        })
+        .collect()
+}
+
+/// One cut through meshlabserver, compared with `katachi cut`.
+struct CutCase {
+    name: &'static str,
+    input: PathBuf,
+    camera: Camera,
+    /// Pixels of the camera's viewport, origin bottom-left, y up (the filter's convention).
+    stroke: Vec<[f64; 2]>,
+    through_all: bool,
+    open: bool,
+    new_layer: bool,
+}
+
+impl CutCase {
+    /// The filter script. meshlabserver 2020.09 cannot read a shot (RichShotf) from a script
+    /// (its reader asserts), so the script leaves out the first parameter, `shot`, and gives
+    /// the view as MeshLab's camera XML in `viewXml`; every other parameter is given.
+    fn mlx(&self) -> String {
+        let stroke: Vec<String> = self
+            .stroke
+            .iter()
+            .map(|[x, y]| format!("{x} {y}"))
+            .collect();
+        format!(
+            "<!DOCTYPE FilterScript>\n<FilterScript>\n <filter name=\"{CUT_FILTER}\">\n  \
+             <Param type=\"RichString\" name=\"viewXml\" value=\"{}\"/>\n  \
+             <Param type=\"RichString\" name=\"stroke\" value=\"{}\"/>\n  \
+             <Param type=\"RichEnum\" name=\"mode\" value=\"{}\" enum_val0=\"Visible only\" enum_val1=\"Through all\" enum_cardinality=\"2\"/>\n  \
+             <Param type=\"RichBool\" name=\"openCut\" value=\"{}\"/>\n  \
+             <Param type=\"RichBool\" name=\"newLayer\" value=\"{}\"/>\n </filter>\n</FilterScript>\n",
+            xml_escape(&self.camera.vcg_camera_xml()),
+            stroke.join("; "),
+            u8::from(self.through_all),
+            self.open,
+            self.new_layer,
+        )
+    }
+
+    /// The stroke file `katachi cut` reads: the stroke flipped to katachi's pixels (origin
+    /// top-left, y down) and the view-projection matrix the filter logged.
+    fn stroke_json(&self, view_proj: &[f64]) -> String {
+        let h = f64::from(self.camera.viewport[1]);
+        let points: Vec<String> = self
+            .stroke
+            .iter()
+            .map(|[x, y]| format!("[{x:?}, {:?}]", h - y))
+            .collect();
+        let matrix: Vec<String> = view_proj.iter().map(|x| format!("{x:?}")).collect();
+        format!(
+            "{{\"stroke\": [{}], \"view_proj\": [{}], \"viewport\": [0, 0, {}, {}], \"mode\": \"{}\", \"open\": {}}}\n",
+            points.join(", "),
+            matrix.join(", "),
+            self.camera.viewport[0],
+            self.camera.viewport[1],
+            if self.through_all {
+                "through-all"
+            } else {
+                "visible-only"
+            },
+            self.open
+        )
+    }
+}
+
+/// The view-projection matrix the filter logs (`katachi: view: … y down): m0 … m15`).
+fn logged_view_proj(log: &str) -> Result<Vec<f64>, String> {
+    let line = log
+        .lines()
+        .find(|l| l.contains("katachi: view:"))
+        .ok_or("the log has no `katachi: view:` line")?;
+    let (_, numbers) = line
+        .split_once("y down):")
+        .ok_or_else(|| format!("cannot read the matrix in `{line}`"))?;
+    let m: Vec<f64> = numbers
+        .split_whitespace()
+        .map(|t| {
+            t.parse()
+                .map_err(|_| format!("`{t}` in `{line}` is not a number"))
+        })
+        .collect::<Result<_, _>>()?;
+    if m.len() == 16 {
+        Ok(m)
+    } else {
+        Err(format!("{} numbers in `{line}`, not 16", m.len()))
+    }
+}
+
+/// One cut: meshlabserver with the plugin vs. `katachi cut`. Returns checks made.
+fn run_cut_case(
+    server: &Path,
+    katachi: &Path,
+    work: &Path,
+    case: &CutCase,
+) -> Result<usize, String> {
+    let name = case.name;
+    let script = work.join(format!("{name}.mlx"));
+    std::fs::write(&script, case.mlx()).map_err(|e| format!("{}: {e}", script.display()))?;
+    let ml_out = work.join(format!("{name}_meshlab.off"));
+    let cli_out = work.join(format!("{name}_cli.off"));
+    let out = capture(&mut meshlabserver_cmd(
+        server,
+        &case.input,
+        &ml_out,
+        &script,
+    ))?;
+    let log = format!(
+        "{}{}",
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    if !out.status.success() || !ml_out.is_file() {
+        return Err(format!(
+            "{name}: meshlabserver failed ({}) or wrote no {}; its output:\n{log}",
+            out.status,
+            ml_out.display()
+        ));
+    }
+    if !log.contains("katachi: cut by polyline (") {
+        return Err(format!(
+            "{name}: meshlabserver's log lacks the cut's report:\n{log}"
+        ));
+    }
+    let [w, h] = case.camera.viewport;
+    if !log.contains(&format!("{w} x {h} pixels")) {
+        return Err(format!(
+            "{name}: the log does not show the {w} x {h} viewport:\n{log}"
+        ));
+    }
+    let view_proj = logged_view_proj(&log).map_err(|e| format!("{name}: {e}:\n{log}"))?;
+    let json = work.join(format!("{name}_stroke.json"));
+    std::fs::write(&json, case.stroke_json(&view_proj))
+        .map_err(|e| format!("{}: {e}", json.display()))?;
+    let mut cli = Command::new(katachi);
+    cli.arg("cut")
+        .arg(&case.input)
+        .arg(&cli_out)
+        .arg("--stroke")
+        .arg(&json)
+        .args([
+            "--mode",
+            if case.through_all {
+                "through-all"
+            } else {
+                "visible-only"
+            },
+        ]);
+    if case.open {
+        cli.arg("--open");
+    }
+    run_cmd(&mut cli)?;
+    let input = read_off(&case.input)?;
+    let ml = read_off(&ml_out)?;
+    let cli = read_off(&cli_out)?;
+    if ml.faces.len() <= input.faces.len() {
+        return Err(format!(
+            "{name}: MeshLab's result has {} faces, the input {}: nothing was cut",
+            ml.faces.len(),
+            input.faces.len()
+        ));
+    }
+    let report = compare_indexed(&ml, &cli)
+        .map_err(|e| format!("{name}: MeshLab's result differs from the CLI's: {e}"))?;
+    eprintln!(
+        "xtask: meshlab-plugin: {name}: {} -> {} triangles; {report}",
+        input.faces.len(),
+        ml.faces.len()
+    );
+    Ok(5)
+}
+
+/// Checks that MeshLab's cut `ml` is the CLI's `cli` element for element: the filter writes
+/// katachi's vertices and triangles in katachi's order, so vertex i is within `REL_TOL` × the
+/// CLI bounding-box diagonal of CLI vertex i (MeshLab stores floats) and triangle i has the
+/// same corners in the same order. (Opening a cut makes coincident vertices, which a match by
+/// position alone, as [`compare`] does, cannot tell apart.)
+fn compare_indexed(ml: &Off, cli: &Off) -> Result<String, String> {
+    if ml.positions.len() != cli.positions.len() || ml.faces.len() != cli.faces.len() {
+        return Err(format!(
+            "MeshLab has {} vertices and {} faces, the CLI {} and {}",
+            ml.positions.len(),
+            ml.faces.len(),
+            cli.positions.len(),
+            cli.faces.len()
+        ));
+    }
+    let (lo, hi) = bounding_box(&cli.positions);
+    let diag = (0..3)
+        .map(|k| (hi[k] - lo[k]).powi(2))
+        .sum::<f64>()
+        .sqrt()
+        .max(f64::MIN_POSITIVE);
+    let mut worst = 0.0f64;
+    for (i, (p, q)) in ml.positions.iter().zip(&cli.positions).enumerate() {
+        let d = (0..3).map(|k| (p[k] - q[k]).abs()).fold(0.0, f64::max);
+        if d.is_nan() || d > REL_TOL * diag {
+            return Err(format!(
+                "vertex {i} is at {p:?} in MeshLab's result, {q:?} in the CLI's"
+            ));
+        }
+        worst = worst.max(d);
+    }
+    if let Some(f) = (0..ml.faces.len()).find(|&f| ml.faces[f] != cli.faces[f]) {
+        return Err(format!(
+            "face {f} is {:?} in MeshLab's result, {:?} in the CLI's",
+            ml.faces[f], cli.faces[f]
+        ));
+    }
+    Ok(format!(
+        "{} vertices (max deviation {:.2e} of the diagonal) and {} triangles, the same as the CLI's",
+        ml.positions.len(),
+        worst / diag,
+        ml.faces.len()
+    ))
+}
+
+fn bounding_box(positions: &[[f64; 3]]) -> ([f64; 3], [f64; 3]) {
+    positions.iter().fold(
+        ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]),
+        |(lo, hi), p| {
+            (
+                [lo[0].min(p[0]), lo[1].min(p[1]), lo[2].min(p[2])],
+                [hi[0].max(p[0]), hi[1].max(p[1]), hi[2].max(p[2])],
+            )
+        },
+    )
+}
+
+/// An n × n grid of unit squares in the plane z = 0, each square two triangles facing +z.
+fn grid_off(n: usize) -> String {
+    let mut s = format!("OFF\n{} {} 0\n", (n + 1) * (n + 1), 2 * n * n);
+    for j in 0..=n {
+        for i in 0..=n {
+            let _ = writeln!(s, "{i} {j} 0");
+        }
+    }
+    for j in 0..n {
+        for i in 0..n {
+            let a = j * (n + 1) + i;
+            let (b, c, d) = (a + 1, a + n + 2, a + n + 1);
+            let _ = writeln!(s, "3 {a} {b} {c}\n3 {a} {c} {d}");
+        }
+    }
+    s
+}
+
+/// `mesh` as OFF text with every coordinate rounded to f32 and written exactly, so that
+/// MeshLab (which stores floats) and the CLI (doubles) read the same numbers.
+fn off_f32(mesh: &Off) -> String {
+    let mut s = format!("OFF\n{} {} 0\n", mesh.positions.len(), mesh.faces.len());
+    for p in &mesh.positions {
+        let [x, y, z] = p.map(|c| f64::from(c as f32));
+        let _ = writeln!(s, "{x:?} {y:?} {z:?}");
+    }
+    for f in &mesh.faces {
+        let corners: Vec<String> = f.iter().map(usize::to_string).collect();
+        let _ = writeln!(s, "{} {}", f.len(), corners.join(" "));
     }
     s
 }
@@ -1170,6 +1657,94 @@ mod tests {
             deb_src_lines("deb http://a bookworm main\n# deb x\n"),
             vec!["deb-src http://a bookworm main"]
         );
+    }
+
+    fn cut_case() -> CutCase {
+        CutCase {
+            name: "t",
+            input: PathBuf::from("in.off"),
+            camera: Camera::looking_at([5.0, 5.0, 10.0], [5.0, 5.0, 0.0], [0.0, 1.0, 0.0], true),
+            stroke: vec![[10.0, 20.0], [30.5, 40.25]],
+            through_all: true,
+            open: false,
+            new_layer: true,
+        }
+    }
+
+    #[test]
+    fn cut_mlx_gives_every_parameter_but_the_shot() {
+        let s = cut_case().mlx();
+        for p in ["viewXml", "stroke", "mode", "openCut", "newLayer"] {
+            assert!(s.contains(&format!("name=\"{p}\"")), "{p} missing");
+        }
+        assert!(!s.contains("name=\"shot\""));
+        assert!(s.contains("value=\"10 20; 30.5 40.25\""));
+        assert!(s.contains("name=\"mode\" value=\"1\""));
+        // The camera XML is escaped inside the attribute.
+        assert!(s.contains("value=\"&lt;VCGCamera TranslationVector=&quot;-5 -5 -10 1&quot;"));
+        assert!(!s.contains("<VCGCamera"));
+    }
+
+    #[test]
+    fn cut_stroke_file_flips_y() {
+        let case = cut_case();
+        let m: Vec<f64> = (0..16).map(f64::from).collect();
+        let json = case.stroke_json(&m);
+        assert!(
+            json.starts_with("{\"stroke\": [[10.0, 580.0], [30.5, 559.75]]"),
+            "{json}"
+        );
+        assert!(json.contains("\"viewport\": [0, 0, 600, 600]"));
+        assert!(json.contains("\"mode\": \"through-all\""));
+    }
+
+    #[test]
+    fn camera_axes_are_orthonormal() {
+        let c = Camera::looking_at([1.0, -4.0, 3.0], [0.5, 0.2, 0.1], [0.0, 0.0, 1.0], false);
+        let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+        for i in 0..3 {
+            for j in 0..3 {
+                let expected = if i == j { 1.0 } else { 0.0 };
+                assert!((dot(c.rows[i], c.rows[j]) - expected).abs() < 1e-12);
+            }
+        }
+        // z points from the target back to the eye (vcg looks down -z).
+        assert!(dot(c.rows[2], sub(c.eye, [0.5, 0.2, 0.1])) > 0.0);
+    }
+
+    #[test]
+    fn logged_matrix_is_read() {
+        let log = "LOG: 2 katachi: view: perspective, 800 x 600 pixels; view-projection \
+                   (column-major, katachi's pixels top-left, y down): 1 0 0 0 0 2 0 0 0 0 -1.5 -1 \
+                   -4.25 -6 3.5e-13 12\nLOG: 2 other";
+        let m = logged_view_proj(log).unwrap();
+        assert_eq!(m.len(), 16);
+        assert_eq!(m[14], 3.5e-13);
+        assert!(logged_view_proj("nothing").is_err());
+    }
+
+    #[test]
+    fn indexed_comparison() {
+        let grid = parse_off(&grid_off(2)).unwrap();
+        assert_eq!((grid.positions.len(), grid.faces.len()), (9, 8));
+        assert!(compare_indexed(&grid, &grid).is_ok());
+        let mut moved = grid.clone();
+        moved.positions[4][2] += 1e-3;
+        assert!(compare_indexed(&moved, &grid)
+            .unwrap_err()
+            .contains("vertex 4"));
+        let mut turned = grid.clone();
+        turned.faces[3].rotate_left(1);
+        assert!(compare_indexed(&turned, &grid)
+            .unwrap_err()
+            .contains("face 3"));
+        let f32_text = off_f32(&Off {
+            positions: vec![[0.1, 1.0 / 3.0, 2.0]],
+            faces: vec![],
+        });
+        let back = parse_off(&f32_text).unwrap();
+        assert_eq!(back.positions[0][0], f64::from(0.1f32));
+        assert_eq!(back.positions[0][1], f64::from((1.0f64 / 3.0) as f32));
     }
 
     #[test]

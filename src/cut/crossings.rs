@@ -14,6 +14,7 @@
 //! chain ends, so each chain is one sheet.
 
 use glam::{DVec2, DVec3};
+use rayon::prelude::*;
 
 use super::geom::{in_triangle, on_segment, orient};
 use super::region::{Region, NONE};
@@ -66,7 +67,7 @@ pub(crate) fn find_occurrences(
     region: &Region,
     line: &Polyline,
     closed: bool,
-    prepared_segments_near: &dyn Fn(DVec2, DVec2, &mut Vec<u32>),
+    prepared_segments_near: &(dyn Fn(DVec2, DVec2, &mut Vec<u32>) + Sync),
     seg_range: &[(u32, u32)],
     piece_ends: &[u32],
     buckets: &FaceBuckets,
@@ -76,8 +77,6 @@ pub(crate) fn find_occurrences(
 ) -> Vec<Occ> {
     let pts = &line.pts;
     let last = (pts.len() - 1) as u32;
-    let mut occ: Vec<Occ> = Vec::new();
-    let mut near: Vec<u32> = Vec::new();
     let mk = |key: (u32, f64), elem: Elem, screen: DVec2| Occ {
         key,
         elem,
@@ -86,96 +85,110 @@ pub(crate) fn find_occurrences(
         bary: [0.0; 3],
         visible: true,
     };
-    for (e, &[ia, ib]) in region.edges.iter().enumerate() {
-        let ef = region.edge_faces[e];
-        if !ef.iter().any(|&f| f != NONE && region.cuttable[f as usize]) {
-            continue;
-        }
-        let (a, b) = (region.screen(ia), region.screen(ib));
-        near.clear();
-        prepared_segments_near(a.min(b), a.max(b), &mut near);
-        for &si in near.iter() {
-            let (j0, j1) = seg_range[si as usize];
-            for k in j0..j1 {
-                let (p, q) = (pts[k as usize], pts[k as usize + 1]);
-                // Boxes apart: nothing to meet (exact: comparisons only).
-                if p.x.max(q.x) < a.x.min(b.x)
-                    || p.x.min(q.x) > a.x.max(b.x)
-                    || p.y.max(q.y) < a.y.min(b.y)
-                    || p.y.min(q.y) > a.y.max(b.y)
-                {
+    // Edges in fixed chunks on rayon, concatenated in edge order (thread-count independent).
+    let chunks: Vec<Vec<Occ>> = region
+        .edges
+        .par_chunks(256)
+        .enumerate()
+        .map(|(ci, chunk)| {
+            let mut occ: Vec<Occ> = Vec::new();
+            let mut near: Vec<u32> = Vec::new();
+            for (i, &[ia, ib]) in chunk.iter().enumerate() {
+                let e = ci * 256 + i;
+                let ef = region.edge_faces[e];
+                if !ef.iter().any(|&f| f != NONE && region.cuttable[f as usize]) {
                     continue;
                 }
-                let (o1, o2) = (orient(p, q, a), orient(p, q, b));
-                for (v, x, o) in [(ia, a, o1), (ib, b, o2)] {
-                    if o == 0.0 && on_segment(p, q, x) {
-                        let key = if x == p {
-                            (k, 0.0)
-                        } else if x == q {
-                            (k + 1, 0.0)
-                        } else {
-                            let pq = q - p;
-                            (k, ((x - p).dot(pq) / pq.length_squared()).clamp(0.0, 1.0))
-                        };
-                        occ.push(mk(key, Elem::V(v), x));
-                    }
-                }
-                if o1 * o2 < 0.0 {
-                    let (o3, o4) = (orient(a, b, p), orient(a, b, q));
-                    let edge_t = o1 / (o1 - o2);
-                    let (key, on_point) = if o3 * o4 < 0.0 {
-                        ((k, o3 / (o3 - o4)), false)
-                    } else if o3 == 0.0 {
-                        ((k, 0.0), true)
-                    } else if o4 == 0.0 && k + 1 == last {
-                        ((k + 1, 0.0), true)
-                    } else {
-                        continue;
-                    };
-                    let screen = if on_point {
-                        pts[key.0 as usize]
-                    } else {
-                        p + (q - p) * key.1
-                    };
-                    let at = if on_point {
-                        canon(line, closed, key.0)
-                    } else {
-                        k
-                    };
-                    let mut o = mk(
-                        key,
-                        Elem::E {
-                            edge: e as u32,
-                            at,
-                            on_point,
-                        },
-                        screen,
-                    );
-                    o.edge_t = edge_t;
-                    occ.push(o);
-                } else if o1 == 0.0 && o2 == 0.0 {
-                    // The segment runs along the edge's line: stroke points strictly inside
-                    // the edge are on it.
-                    let ab = b - a;
-                    for (j, x) in [(k, p), (k + 1, q)] {
-                        if (j == k || j == last) && x != a && x != b && on_segment(a, b, x) {
+                let (a, b) = (region.screen(ia), region.screen(ib));
+                near.clear();
+                prepared_segments_near(a.min(b), a.max(b), &mut near);
+                for &si in near.iter() {
+                    let (j0, j1) = seg_range[si as usize];
+                    for k in j0..j1 {
+                        let (p, q) = (pts[k as usize], pts[k as usize + 1]);
+                        // Boxes apart: nothing to meet (exact: comparisons only).
+                        if p.x.max(q.x) < a.x.min(b.x)
+                            || p.x.min(q.x) > a.x.max(b.x)
+                            || p.y.max(q.y) < a.y.min(b.y)
+                            || p.y.min(q.y) > a.y.max(b.y)
+                        {
+                            continue;
+                        }
+                        let (o1, o2) = (orient(p, q, a), orient(p, q, b));
+                        for (v, x, o) in [(ia, a, o1), (ib, b, o2)] {
+                            if o == 0.0 && on_segment(p, q, x) {
+                                let key = if x == p {
+                                    (k, 0.0)
+                                } else if x == q {
+                                    (k + 1, 0.0)
+                                } else {
+                                    let pq = q - p;
+                                    (k, ((x - p).dot(pq) / pq.length_squared()).clamp(0.0, 1.0))
+                                };
+                                occ.push(mk(key, Elem::V(v), x));
+                            }
+                        }
+                        if o1 * o2 < 0.0 {
+                            let (o3, o4) = (orient(a, b, p), orient(a, b, q));
+                            let edge_t = o1 / (o1 - o2);
+                            let (key, on_point) = if o3 * o4 < 0.0 {
+                                ((k, o3 / (o3 - o4)), false)
+                            } else if o3 == 0.0 {
+                                ((k, 0.0), true)
+                            } else if o4 == 0.0 && k + 1 == last {
+                                ((k + 1, 0.0), true)
+                            } else {
+                                continue;
+                            };
+                            let screen = if on_point {
+                                pts[key.0 as usize]
+                            } else {
+                                p + (q - p) * key.1
+                            };
+                            let at = if on_point {
+                                canon(line, closed, key.0)
+                            } else {
+                                k
+                            };
                             let mut o = mk(
-                                (j, 0.0),
+                                key,
                                 Elem::E {
                                     edge: e as u32,
-                                    at: canon(line, closed, j),
-                                    on_point: true,
+                                    at,
+                                    on_point,
                                 },
-                                x,
+                                screen,
                             );
-                            o.edge_t = (x - a).dot(ab) / ab.length_squared();
+                            o.edge_t = edge_t;
                             occ.push(o);
+                        } else if o1 == 0.0 && o2 == 0.0 {
+                            // The segment runs along the edge's line: stroke points strictly inside
+                            // the edge are on it.
+                            let ab = b - a;
+                            for (j, x) in [(k, p), (k + 1, q)] {
+                                if (j == k || j == last) && x != a && x != b && on_segment(a, b, x)
+                                {
+                                    let mut o = mk(
+                                        (j, 0.0),
+                                        Elem::E {
+                                            edge: e as u32,
+                                            at: canon(line, closed, j),
+                                            on_point: true,
+                                        },
+                                        x,
+                                    );
+                                    o.edge_t = (x - a).dot(ab) / ab.length_squared();
+                                    occ.push(o);
+                                }
+                            }
                         }
                     }
                 }
             }
-        }
-    }
+            occ
+        })
+        .collect();
+    let mut occ: Vec<Occ> = chunks.into_iter().flatten().collect();
     // Piece ends strictly inside faces (seed 002 §3.4, Figs. 12-13).
     for &j in piece_ends {
         let s = pts[j as usize];
@@ -233,10 +246,10 @@ pub(crate) fn find_occurrences(
         occ.sort_by(|x, y| key_cmp(x.key, y.key).then(x.elem.cmp(&y.elem)));
     }
     if visible_only {
-        for o in occ.iter_mut() {
+        occ.par_iter_mut().with_min_len(64).for_each(|o| {
             let (z, x) = elem_depth(region, o);
             o.visible = !buckets.hidden(region, o.screen, z, x);
-        }
+        });
         // In visible-only mode a piece end inside faces belongs to the nearest visible one.
         occ.retain(|o| !matches!(o.elem, Elem::P { .. }) || o.visible);
     }

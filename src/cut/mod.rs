@@ -83,6 +83,7 @@ pub use report::{CutOutput, CutPath, CutReport, DroppedPoints, VertexMove};
 pub use view::{Stroke, View};
 
 use glam::DVec2;
+use rayon::prelude::*;
 
 use crate::error::Result;
 use crate::mesh::{FaceId, PolyMesh, VertexId};
@@ -198,6 +199,8 @@ fn plan<'a>(
             })
         };
         (0..region.verts.len())
+            .into_par_iter()
+            .with_min_len(256)
             .map(|v| {
                 if !allowed[v] {
                     return false;
@@ -246,24 +249,18 @@ fn plan<'a>(
     }
     let pieces: Vec<(u32, u32)> = bounds.windows(2).map(|w| (w[0], w[1])).collect();
 
-    let stamp = std::cell::RefCell::new((vec![u32::MAX; segs.len()], 0u32));
+    // Segments near a box; ascending, so the occurrences come out in the same order on every
+    // run. (Few segments per box: sort and dedup beat a stamp array, and keep this `Sync`.)
     let near = |lo: DVec2, hi: DVec2, out: &mut Vec<u32>| {
-        let (marks, call) = &mut *stamp.borrow_mut();
-        *call = call.wrapping_add(1);
         if let Some((x0, y0, x1, y1)) = grid.range(lo, hi) {
             for cy in y0..=y1 {
                 for cx in x0..=x1 {
-                    for &k in grid.segments_at(cx, cy) {
-                        if marks[k as usize] != *call {
-                            marks[k as usize] = *call;
-                            out.push(k);
-                        }
-                    }
+                    out.extend_from_slice(grid.segments_at(cx, cy));
                 }
             }
         }
-        // Ascending, so the occurrences come out in the same order on every run.
         out.sort_unstable();
+        out.dedup();
     };
     let mut ends_moved: Vec<u32> = Vec::new();
     let occ = crossings::find_occurrences(

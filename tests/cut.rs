@@ -974,7 +974,8 @@ fn bits(out: &CutOutput) -> (Vec<[u64; 3]>, Vec<u32>, Vec<u32>) {
 
 #[test]
 fn one_thread_and_all_threads_give_the_same_bits() {
-    let s = icosphere(4);
+    // Dense enough that the region spans many of the parallel passes' chunks.
+    let s = icosphere(6);
     let v = perspective(DVec3::new(0.5, 0.3, 3.0), DVec3::ZERO);
     let pts: Vec<(f64, f64)> = (0..50)
         .map(|i| {
@@ -992,7 +993,12 @@ fn one_thread_and_all_threads_give_the_same_bits() {
             .build()
             .unwrap();
         let a = one.install(|| cut(&s, &pts, &v, &o));
-        let b = cut(&s, &pts, &v, &o);
+        let three = rayon::ThreadPoolBuilder::new()
+            .num_threads(3)
+            .build()
+            .unwrap();
+        let b = three.install(|| cut(&s, &pts, &v, &o));
+        assert!(a.report.new_faces > 200, "{}", a.report.new_faces);
         assert_eq!(bits(&a), bits(&b));
         assert_eq!(a.report, b.report);
     }

@@ -539,10 +539,43 @@ fn the_parsers_see_everything() {
     assert_eq!(
         ps.keys().collect::<Vec<_>>(),
         [
+            "KatachiCutInfo",
+            "KatachiCutOptions",
             "KatachiMeshCounts",
             "KatachiMeshInfo",
             "KatachiSubdivideOptions",
             "KatachiSubdivisionInfo"
+        ]
+    );
+    assert_eq!(hs["KatachiCutInfo"].len(), 27);
+    assert_eq!(
+        hs["KatachiCutOptions"]
+            .iter()
+            .map(|(n, t)| format!("{t} {n}"))
+            .collect::<Vec<_>>(),
+        [
+            "uint32_t struct_size",
+            "uint32_t mode",
+            "uint32_t open",
+            "uint32_t max_faces_split",
+            "double snap_vertex_ratio",
+            "double snap_segment_ratio",
+            "double corner_angle_degrees",
+            "double min_stroke_px",
+            "double depth_eps_rel"
+        ]
+    );
+    let cut = &hf["katachi_cut_by_stroke"];
+    assert_eq!(
+        cut.args.iter().map(|a| a.to_string()).collect::<Vec<_>>(),
+        [
+            "KatachiMesh*",
+            "double*",
+            "uint32_t",
+            "double*",
+            "double*",
+            "KatachiCutOptions*",
+            "KatachiCut**"
         ]
     );
     let info = &hs["KatachiMeshInfo"];
@@ -578,7 +611,52 @@ fn the_parsers_see_everything() {
     );
     let constants = python_constants(&py);
     assert_eq!(constants.get("KATACHI_ABI_VERSION"), Some(&1));
-    assert_eq!(constants.len(), 19, "{constants:?}");
+    assert_eq!(constants.len(), 25, "{constants:?}");
+}
+
+/// The stroke cut's part of the header is bound in full: every `katachi_cut_*` function,
+/// both of its structs and every `KATACHI_CUT_*` constant (the Blender add-on's Cut by
+/// Stroke calls them all, or could), so a function added to the header without the add-on
+/// learning of it fails here.
+#[test]
+fn the_cut_api_is_bound_in_full() {
+    let (header, py) = (read(HEADER), read(FFI));
+    let hf = header_functions(&header);
+    let pf = python_functions(&py);
+    let cut: Vec<&String> = hf
+        .keys()
+        .filter(|n| n.starts_with("katachi_cut_"))
+        .collect();
+    assert!(
+        cut.len() >= 13,
+        "only {} katachi_cut_* functions in katachi.h",
+        cut.len()
+    );
+    let missing: Vec<&&String> = cut.iter().filter(|n| !pf.contains_key(**n)).collect();
+    assert!(missing.is_empty(), "ffi.py does not bind {missing:?}");
+    let ps = python_structs(&py);
+    let hs = header_structs(&header);
+    for name in hs.keys().filter(|n| n.starts_with("KatachiCut")) {
+        assert!(
+            ps.contains_key(name),
+            "ffi.py does not mirror struct {name}"
+        );
+    }
+    let hc = header_constants(&header);
+    let pc = python_constants(&py);
+    let cut_constants: Vec<&String> = hc
+        .keys()
+        .filter(|n| n.starts_with("KATACHI_CUT_"))
+        .collect();
+    assert_eq!(cut_constants.len(), 6, "{cut_constants:?}");
+    for name in cut_constants {
+        assert_eq!(pc.get(name), hc.get(name), "{name}");
+    }
+    // The result handle is freed by the function the add-on's _Handle names.
+    assert!(
+        py.contains("FREE = \"katachi_cut_free\""),
+        "ffi.Cut does not free with katachi_cut_free"
+    );
 }
 
 #[test]
@@ -696,6 +774,41 @@ fn a_changed_declaration_is_caught() {
     );
     assert!(
         bad.iter().any(|b| b.contains("callback KatachiDoneFn")),
+        "{bad:?}"
+    );
+    // The stroke cut's declarations: an argument, a field, a constant.
+    let bad = mutate(
+        "POINTER(c_double), c_uint32, POINTER(c_double), POINTER(c_double), POINTER(KatachiCutOptions)",
+        "POINTER(c_double), c_size_t, POINTER(c_double), POINTER(c_double), POINTER(KatachiCutOptions)",
+    );
+    assert!(
+        bad.iter()
+            .any(|b| b.contains("katachi_cut_by_stroke: argument 2")),
+        "{bad:?}"
+    );
+    let bad = mutate(
+        "(\"max_move_world\", c_double),\n        (\"max_move_px\", c_double),",
+        "(\"max_move_px\", c_double),\n        (\"max_move_world\", c_double),",
+    );
+    assert!(
+        bad.iter().any(|b| b.contains("struct KatachiCutInfo")),
+        "{bad:?}"
+    );
+    let bad = mutate(
+        "KATACHI_CUT_STAGE_OFF_MESH = 3",
+        "KATACHI_CUT_STAGE_OFF_MESH = 4",
+    );
+    assert!(
+        bad.iter().any(|b| b.contains("KATACHI_CUT_STAGE_OFF_MESH")),
+        "{bad:?}"
+    );
+    let bad = mutate(
+        "\"katachi_cut_copy_paths\": (KatachiStatus, [POINTER(KatachiCut), POINTER(c_uint32), c_size_t, POINTER(c_uint32), c_size_t]),",
+        "\"katachi_cut_copy_paths\": (KatachiStatus, [POINTER(KatachiCut), POINTER(c_uint32), POINTER(c_uint32), c_size_t]),",
+    );
+    assert!(
+        bad.iter()
+            .any(|b| b.contains("katachi_cut_copy_paths: 5 arguments")),
         "{bad:?}"
     );
     let bad = mutate("KATACHI_ABI_VERSION = 1", "KATACHI_ABI_VERSION = 2");

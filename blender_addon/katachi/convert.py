@@ -474,6 +474,7 @@ def _fill(me, result, source):
         me.materials.append(mat)
 
     me.update(calc_edges=True)
+    repair_selection_attributes(me)
 
     for name, uv in result.uv_layers:
         layer = me.uv_layers.new(name=name, do_init=False)
@@ -498,6 +499,17 @@ def _fill(me, result, source):
             "Blender found the subdivided mesh invalid; the object was left as it was "
             "(please report this as a katachi bug)"
         )
+
+
+def repair_selection_attributes(me):
+    """Blender 5.0.1's ``Mesh.update(calc_edges=True)`` makes the edge selection
+    (``.select_edge``) an INT32_2D attribute, and writing ``MeshEdge.select`` then crashes
+    Blender. A selection attribute of the wrong type is removed (nothing selected), so
+    Blender makes a proper one when the selection is next written."""
+    for name in (".select_vert", ".select_edge", ".select_poly"):
+        attr = me.attributes.get(name)
+        if attr is not None and attr.data_type != "BOOLEAN":
+            me.attributes.remove(attr)
 
 
 def _write_creases(me, result):

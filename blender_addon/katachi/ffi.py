@@ -53,6 +53,12 @@ KATACHI_FACE_VARYING_SMOOTH = 0
 KATACHI_FACE_VARYING_LINEAR_CORNERS_ONLY = 1
 KATACHI_FACE_VARYING_LINEAR_BOUNDARIES = 2
 KATACHI_FACE_VARYING_LINEAR_ALL = 3
+KATACHI_CUT_MODE_VISIBLE_ONLY = 0
+KATACHI_CUT_MODE_THROUGH_ALL = 1
+KATACHI_CUT_STAGE_PREPROCESSING = 0
+KATACHI_CUT_STAGE_FIRST_NORMALIZATION = 1
+KATACHI_CUT_STAGE_SECOND_NORMALIZATION = 2
+KATACHI_CUT_STAGE_OFF_MESH = 3
 # ---- end of enums ----
 
 #: ``KatachiStatus`` is a ``uint32_t`` in C.
@@ -65,6 +71,10 @@ class KatachiMesh(ctypes.Structure):
 
 class KatachiSubdivision(ctypes.Structure):
     """Opaque subdivision-result handle (only ever used through a pointer)."""
+
+
+class KatachiCut(ctypes.Structure):
+    """Opaque stroke-cut-result handle (only ever used through a pointer)."""
 
 
 # ---- structs (checked against include/katachi.h by tests/blender_bindings.rs) ----
@@ -133,6 +143,52 @@ class KatachiSubdivisionInfo(ctypes.Structure):
         ("fallback_face_count", c_uint32),
         ("stencil_entry_count", c_uint32),
     ]
+
+
+class KatachiCutOptions(ctypes.Structure):
+    _fields_ = [
+        ("struct_size", c_uint32),
+        ("mode", c_uint32),
+        ("open", c_uint32),
+        ("max_faces_split", c_uint32),
+        ("snap_vertex_ratio", c_double),
+        ("snap_segment_ratio", c_double),
+        ("corner_angle_degrees", c_double),
+        ("min_stroke_px", c_double),
+        ("depth_eps_rel", c_double),
+    ]
+
+
+class KatachiCutInfo(ctypes.Structure):
+    _fields_ = [
+        ("struct_size", c_uint32),
+        ("vertex_count", c_uint32),
+        ("face_count", c_uint32),
+        ("corner_count", c_uint32),
+        ("input_vertex_count", c_uint32),
+        ("input_corner_count", c_uint32),
+        ("new_vertex_count", c_uint32),
+        ("new_face_count", c_uint32),
+        ("split_face_count", c_uint32),
+        ("moved_vertex_count", c_uint32),
+        ("piece_count", c_uint32),
+        ("path_count", c_uint32),
+        ("path_vertex_count", c_uint32),
+        ("dropped_preprocessing_count", c_uint32),
+        ("dropped_first_normalization_count", c_uint32),
+        ("dropped_second_normalization_count", c_uint32),
+        ("dropped_off_mesh_count", c_uint32),
+        ("snaps_refused_count", c_uint32),
+        ("ends_moved_to_edges_count", c_uint32),
+        ("clipped_face_count", c_uint32),
+        ("degenerate_face_count", c_uint32),
+        ("rerouted_count", c_uint32),
+        ("unjoined_count", c_uint32),
+        ("max_move_world", c_double),
+        ("max_move_px", c_double),
+        ("mean_edge_length_px", c_double),
+        ("mean_edge_length_world", c_double),
+    ]
 # ---- end of structs ----
 
 # ---- callbacks (checked against include/katachi.h by tests/blender_bindings.rs) ----
@@ -175,6 +231,19 @@ FUNCTIONS = {
     "katachi_subdivision_fallback_reason": (KatachiStatus, [POINTER(KatachiSubdivision), c_uint32, POINTER(c_char), c_size_t]),
     "katachi_subdivision_refine_face_varying": (KatachiStatus, [POINTER(KatachiSubdivision), POINTER(c_double), c_size_t, c_uint32, POINTER(c_uint32), c_size_t, c_uint32, POINTER(c_double), c_size_t]),
     "katachi_mesh_split_faces_with_holes": (KatachiStatus, [POINTER(KatachiMesh), POINTER(POINTER(KatachiMesh)), POINTER(c_uint32), c_size_t]),
+    "katachi_cut_options_default": (KatachiCutOptions, []),
+    "katachi_cut_info_default": (KatachiCutInfo, []),
+    "katachi_cut_by_stroke": (KatachiStatus, [POINTER(KatachiMesh), POINTER(c_double), c_uint32, POINTER(c_double), POINTER(c_double), POINTER(KatachiCutOptions), POINTER(POINTER(KatachiCut))]),
+    "katachi_cut_free": (None, [POINTER(KatachiCut)]),
+    "katachi_cut_info": (KatachiStatus, [POINTER(KatachiCut), POINTER(KatachiCutInfo)]),
+    "katachi_cut_mesh": (KatachiStatus, [POINTER(KatachiCut), POINTER(POINTER(KatachiMesh))]),
+    "katachi_cut_copy_face_origin": (KatachiStatus, [POINTER(KatachiCut), POINTER(c_uint32), c_size_t]),
+    "katachi_cut_copy_paths": (KatachiStatus, [POINTER(KatachiCut), POINTER(c_uint32), c_size_t, POINTER(c_uint32), c_size_t]),
+    "katachi_cut_copy_path_pieces": (KatachiStatus, [POINTER(KatachiCut), POINTER(c_uint32), POINTER(c_uint32), c_size_t]),
+    "katachi_cut_copy_moved_vertices": (KatachiStatus, [POINTER(KatachiCut), POINTER(c_uint32), POINTER(c_double), POINTER(c_double), POINTER(c_double), c_size_t]),
+    "katachi_cut_copy_dropped_points": (KatachiStatus, [POINTER(KatachiCut), c_uint32, POINTER(c_uint32), c_size_t]),
+    "katachi_cut_interpolate_corner_data": (KatachiStatus, [POINTER(KatachiCut), POINTER(c_double), c_size_t, c_uint32, POINTER(c_double), c_size_t]),
+    "katachi_cut_interpolate_vertex_data": (KatachiStatus, [POINTER(KatachiCut), POINTER(c_double), c_size_t, c_uint32, POINTER(c_double), c_size_t]),
 }
 # ---- end of functions ----
 
@@ -226,6 +295,8 @@ class Library:
             (self.katachi_mesh_info_default, KatachiMeshInfo),
             (self.katachi_subdivide_options_default, KatachiSubdivideOptions),
             (self.katachi_subdivision_info_default, KatachiSubdivisionInfo),
+            (self.katachi_cut_options_default, KatachiCutOptions),
+            (self.katachi_cut_info_default, KatachiCutInfo),
         ):
             size = default().struct_size
             if size != ctypes.sizeof(struct):
@@ -326,6 +397,40 @@ class Subdivision(_Handle):
         i = self.lib.katachi_subdivision_info_default()
         self.lib.call("katachi_subdivision_info", self.handle, ctypes.byref(i))
         return i
+
+
+class Cut(_Handle):
+    """Owns a ``KatachiCut*`` (a result of ``katachi_cut_by_stroke``)."""
+
+    FREE = "katachi_cut_free"
+
+    def info(self):
+        i = self.lib.katachi_cut_info_default()
+        self.lib.call("katachi_cut_info", self.handle, ctypes.byref(i))
+        return i
+
+
+def cut_by_stroke(lib, mesh, stroke_px, view_proj, viewport, options):
+    """Cuts ``mesh`` (a :class:`Mesh`, not changed) along ``stroke_px`` (``2 n`` doubles,
+    pixels from the viewport's top-left corner, y down) seen through ``view_proj`` (16
+    doubles, column-major) and ``viewport`` (``x0, y0, width, height``) with ``options`` (a
+    ``KatachiCutOptions``); returns a :class:`Cut`. Each sequence is copied into a
+    ``double`` array here."""
+    stroke = (c_double * max(len(stroke_px), 1))(*stroke_px)
+    vp = (c_double * 16)(*view_proj)
+    port = (c_double * 4)(*viewport)
+    handle = POINTER(KatachiCut)()
+    lib.call(
+        "katachi_cut_by_stroke",
+        mesh.handle,
+        ctypes.cast(stroke, POINTER(c_double)),
+        len(stroke_px) // 2,
+        ctypes.cast(vp, POINTER(c_double)),
+        ctypes.cast(port, POINTER(c_double)),
+        ctypes.byref(options),
+        ctypes.byref(handle),
+    )
+    return Cut(lib, handle)
 
 
 def subdivide(lib, mesh, options, progress=None):

@@ -1,10 +1,19 @@
-"""The Subdivide operator's properties (its redo panel), kept apart from the operator's logic.
+"""The operators' properties (their redo panels), kept apart from the operators' logic.
 
 Each enum's identifiers map to a katachi constant (``ffi.KATACHI_*``); the defaults are
 katachi's, and the UV default is Blender's Subdivision Surface default (Keep Boundaries).
 """
 
-from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty
+import math
+
+from bpy.props import (
+    BoolProperty,
+    EnumProperty,
+    FloatProperty,
+    FloatVectorProperty,
+    IntProperty,
+)
+from bpy.types import PropertyGroup
 
 from . import ffi
 
@@ -113,3 +122,90 @@ class SubdivideProperties:
         layout.prop(self, "crease_method")
         layout.prop(self, "uv_smooth")
 
+
+
+# ---------------------------------------------------------------------------- stroke cut
+
+CUT_MODES = (
+    ("VISIBLE_ONLY", "Visible Only",
+     "Cut only the faces seen from the view: front-facing and not hidden by nearer faces"),
+    ("THROUGH_ALL", "Through All",
+     "Cut every face under the stroke, back faces and hidden sheets too (each sheet gets "
+     "its own cut)"),
+)
+CUT_MODE_VALUES = {
+    "VISIBLE_ONLY": ffi.KATACHI_CUT_MODE_VISIBLE_ONLY,
+    "THROUGH_ALL": ffi.KATACHI_CUT_MODE_THROUGH_ALL,
+}
+
+CUT_VIEWS = (
+    ("VIEW", "3D View", "Project through the 3D Viewport the operator runs in (or the first "
+     "one of the screen)"),
+    ("CAMERA", "Camera", "Project through a camera (Camera, or the scene camera when empty) "
+     "at the scene's render resolution"),
+)
+
+
+class KATACHI_PG_stroke_point(PropertyGroup):
+    """One point of a drawn stroke, in pixels from the view's top-left corner, y down."""
+
+    co: FloatVectorProperty(name="Point", size=2, default=(0.0, 0.0))
+
+
+class CutProperties:
+    """Mixed into the cut operators: the cut's settings, shown in the redo panel."""
+
+    mode: EnumProperty(
+        name="Cut", description="Which faces under the stroke are cut",
+        items=CUT_MODES, default="VISIBLE_ONLY",
+    )
+    open: BoolProperty(
+        name="Open",
+        description="Open the cut: the faces on either side of it no longer share its "
+        "vertices (a slit, or separate pieces when the cut runs across or around the mesh)",
+        default=False,
+    )
+    keep_polygons: BoolProperty(
+        name="Keep Uncut Faces",
+        description="Faces the cut does not touch stay as they were (quads and n-gons); "
+        "off: the whole mesh comes back as katachi's triangles",
+        default=True,
+    )
+    snap_vertex: FloatProperty(
+        name="Snap to Points",
+        description="Move a vertex onto a stroke point closer than this many mean edge "
+        "lengths on screen (seed 002 §3.2)",
+        default=0.3, min=0.0, max=0.5,
+    )
+    snap_segment: FloatProperty(
+        name="Snap to Stroke",
+        description="Move a vertex onto the stroke when closer than this many mean edge "
+        "lengths on screen (seed 002 §3.2)",
+        default=0.3, min=0.0, max=0.5,
+    )
+    corner_angle: FloatProperty(
+        name="Corner Angle",
+        description="Where the stroke turns by more than this, the cut has a sharp corner "
+        "(seed 002 §3.4)",
+        subtype="ANGLE", default=math.radians(60.0), min=0.0, max=math.pi,
+    )
+
+    def cut_options(self, lib):
+        """These settings as a ``KatachiCutOptions`` (from the library's defaults)."""
+        o = lib.katachi_cut_options_default()
+        o.mode = CUT_MODE_VALUES[self.mode]
+        o.open = 1 if self.open else 0
+        o.snap_vertex_ratio = self.snap_vertex
+        o.snap_segment_ratio = self.snap_segment
+        o.corner_angle_degrees = math.degrees(self.corner_angle)
+        return o
+
+    def draw_cut_properties(self, layout):
+        layout.use_property_split = True
+        layout.use_property_decorate = False
+        layout.prop(self, "mode")
+        layout.prop(self, "open")
+        layout.prop(self, "keep_polygons")
+        layout.prop(self, "snap_vertex")
+        layout.prop(self, "snap_segment")
+        layout.prop(self, "corner_angle")

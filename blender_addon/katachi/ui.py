@@ -1,8 +1,13 @@
-"""Where the operators appear: Object ▸ katachi in Object mode, Mesh ▸ katachi in Edit mode."""
+"""Where the operators appear: Object ▸ katachi in Object mode, Mesh ▸ katachi in Edit mode,
+and Cut by Stroke in the 3D Viewport's toolbar in Edit mode (after the Knife)."""
 
 import bpy
 
-from .operators import KATACHI_OT_subdivide
+from .operators import (
+    KATACHI_OT_cut_by_annotation,
+    KATACHI_OT_cut_by_stroke,
+    KATACHI_OT_subdivide,
+)
 
 
 class KATACHI_MT_object(bpy.types.Menu):
@@ -10,7 +15,10 @@ class KATACHI_MT_object(bpy.types.Menu):
     bl_label = "katachi"
 
     def draw(self, context):
-        self.layout.operator(KATACHI_OT_subdivide.bl_idname, icon="MOD_SUBSURF")
+        layout = self.layout
+        layout.operator(KATACHI_OT_subdivide.bl_idname, icon="MOD_SUBSURF")
+        layout.separator()
+        layout.operator(KATACHI_OT_cut_by_annotation.bl_idname, icon="GREASEPENCIL")
 
 
 class KATACHI_MT_edit_mesh(bpy.types.Menu):
@@ -21,6 +29,11 @@ class KATACHI_MT_edit_mesh(bpy.types.Menu):
         layout = self.layout
         layout.operator(KATACHI_OT_subdivide.bl_idname, icon="MOD_SUBSURF")
         layout.label(text="Subdivides whole meshes, not only the selection")
+        layout.separator()
+        # From a menu the tool waits for the first left-button press to start drawing.
+        layout.operator_context = "INVOKE_REGION_WIN"
+        layout.operator(KATACHI_OT_cut_by_stroke.bl_idname, icon="LINE_DATA")
+        layout.operator(KATACHI_OT_cut_by_annotation.bl_idname, icon="GREASEPENCIL")
 
 
 def _object_menu(self, context):
@@ -42,11 +55,50 @@ MENU_ENTRIES = (
 )
 
 
+class KATACHI_TL_cut_by_stroke(bpy.types.WorkSpaceTool):
+    bl_space_type = "VIEW_3D"
+    bl_context_mode = "EDIT_MESH"
+    bl_idname = "katachi.cut_by_stroke_tool"
+    bl_label = "Cut by Stroke"
+    bl_description = (
+        "Cut the mesh along a stroke: drag with the left mouse button, release to cut "
+        "(katachi, after Mitani and Suzuki)"
+    )
+    bl_icon = "ops.node.links_cut"
+    bl_widget = None
+    bl_keymap = (
+        (KATACHI_OT_cut_by_stroke.bl_idname, {"type": "LEFTMOUSE", "value": "PRESS"}, None),
+    )
+
+    def draw_settings(context, layout, tool):
+        props = tool.operator_properties(KATACHI_OT_cut_by_stroke.bl_idname)
+        layout.prop(props, "mode")
+        layout.prop(props, "open")
+        layout.prop(props, "keep_polygons")
+
+
+#: Whether the toolbar tool got registered (register_tool needs the window manager's key
+#: configurations, which a Blender without them, e.g. some background runs, lacks).
+_tool_registered = False
+
+
 def register_menus():
+    global _tool_registered
     for menu, fn in MENU_ENTRIES:
         menu.append(fn)
+    try:
+        bpy.utils.register_tool(
+            KATACHI_TL_cut_by_stroke, after={"builtin.knife"}, separator=False, group=False
+        )
+        _tool_registered = True
+    except Exception as e:  # the menu entries still work
+        print(f"katachi: the Cut by Stroke tool was not added to the toolbar: {e}")
 
 
 def unregister_menus():
+    global _tool_registered
+    if _tool_registered:
+        bpy.utils.unregister_tool(KATACHI_TL_cut_by_stroke)
+        _tool_registered = False
     for menu, fn in MENU_ENTRIES:
         menu.remove(fn)

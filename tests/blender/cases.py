@@ -35,10 +35,9 @@ def fresh_scene():
         bpy.ops.object.mode_set(mode="OBJECT")
     for o in list(bpy.data.objects):
         bpy.data.objects.remove(o)
-    for m in list(bpy.data.meshes):
-        bpy.data.meshes.remove(m)
-    for m in list(bpy.data.materials):
-        bpy.data.materials.remove(m)
+    for collection in (bpy.data.meshes, bpy.data.materials, bpy.data.cameras):
+        for m in list(collection):
+            collection.remove(m)
 
 
 def check(cond, msg):

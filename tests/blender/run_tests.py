@@ -1,5 +1,5 @@
-"""Runs the katachi add-on's tests inside Blender, after installing the add-on's zip the way a
-user does.
+"""Runs the katachi add-on's tests (``cases.py``, then the stroke cut's ``cut_cases.py``)
+inside Blender, after installing the add-on's zip the way a user does.
 
     blender -b --factory-startup --python-exit-code 1 --python tests/blender/run_tests.py -- \\
         --zip target/addon/katachi-0.1.0.zip --cli target/release/katachi --work DIR
@@ -24,6 +24,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
 
 import cases  # noqa: E402  (needs the path above)
+import cut_cases  # noqa: E402
 from addon_install import install  # noqa: E402
 
 
@@ -45,7 +46,7 @@ def main():
     addon = install(args.zip)
     cases.setup(addon=addon, zip_path=args.zip, cli=args.cli, work=args.work)
     passed, failed = 0, []
-    for name, fn in cases.TESTS:
+    for name, fn in cases.TESTS + cut_cases.TESTS:
         if args.only and args.only not in name:
             continue
         t = time.time()

@@ -1,10 +1,12 @@
-//! `cargo xtask blender-test [--only 3.4|5.0] [-k NAME]`: the Blender add-on's tests, headless,
-//! in Debian's Blender 3.4 and in Blender 5.0 (the `bpy` module from PyPI).
+//! `cargo xtask blender-test [--only 3.4|5.0] [--no-window] [-k NAME]`: the Blender add-on's
+//! tests in Debian's Blender 3.4 and in Blender 5.0 (the `bpy` module from PyPI).
 //!
 //! Builds the add-on zip (`cargo xtask addon`) and the `katachi` CLI (release), then runs
-//! `tests/blender/run_tests.py`, which installs the zip the way a user does (Blender 3.4:
-//! Install add-on; 5.0: Install extension from disk) and compares the operator's results with
-//! the CLI's, Blender's own Subdivision Surface modifier, or the untouched input:
+//! `tests/blender/run_tests.py` (the cases of `cases.py`, then the stroke cut's of
+//! `cut_cases.py`), which installs the zip the way a user does (Blender 3.4: Install
+//! add-on; 5.0: Install extension from disk) and compares the operators' results with the
+//! CLI's, the katachi library's, Blender's own Subdivision Surface modifier, or the
+//! untouched input:
 //!
 //! - 3.4: `blender -b --factory-startup --python-exit-code 1 --python run_tests.py -- …`
 //!   (the Debian package `blender`);
@@ -12,9 +14,17 @@
 //!   into a venv this task creates once (`python3.11 -m venv`, the Debian package
 //!   `python3-venv`; about 360 MB downloaded the first time) and reuses afterwards.
 //!
-//! Each run gets its own Blender user directories under `<target>/blender-test/<version>/`
+//! Then, in Blender 3.4 only, the Cut by Stroke tool's modal operator is driven by simulated
+//! mouse and keyboard events in a real window (`tests/blender/modal_test.py`): `xvfb-run -a
+//! blender --factory-startup --enable-event-simulate SCENE.blend --python modal_test.py`
+//! under Xvfb (the Debian packages `xvfb` and `xauth`), on a scene saved first so that no
+//! splash screen takes the events. `--no-window` skips this run. The `bpy` module has no
+//! windows (no `Window.event_simulate`, no event loop), so 5.0 cannot run it.
+//!
+//! Each run gets its own Blender user directories under `<target>/blender-test/<label>/`
 //! (emptied first), so nothing is installed into the user's own Blender. A run passes when
-//! it exits 0 and its last line is `N passed, 0 failed` with N > 0.
+//! it exits 0 and its last line is `N passed, 0 failed` with N > 0 (N = 0 is allowed for
+//! the window run when `-k` selects none of its cases).
 //!
 //! `cargo xtask blender-screenshot` renders the operator's redo panel under Xvfb
 //! (`xvfb-run`, the Debian packages `xvfb` and `xauth`) into `docs/images/blender_subdivide.png`.
@@ -25,7 +35,7 @@ use std::process::Command;
 use crate::ctest::target_dir;
 use crate::util::{describe, have, parse_summary, root, run as run_cmd};
 
-const USAGE: &str = "usage: cargo xtask blender-test [--only 3.4|5.0] [-k NAME]";
+const USAGE: &str = "usage: cargo xtask blender-test [--only 3.4|5.0] [--no-window] [-k NAME]";
 
 /// The bpy release the 5.0 tests use (Python 3.11 only).
 const BPY: &str = "bpy==5.0.1";
@@ -34,6 +44,7 @@ const BPY_VERSION: &str = "5.0.1";
 pub fn run(args: &[&str]) -> Result<(), String> {
     let mut only: Option<&str> = None;
     let mut filter: Option<&str> = None;
+    let mut window = true;
     let mut it = args.iter().copied();
     while let Some(a) = it.next() {
         match a {
@@ -41,6 +52,7 @@ pub fn run(args: &[&str]) -> Result<(), String> {
                 Some(v @ ("3.4" | "5.0")) => only = Some(v),
                 _ => return Err(format!("--only takes 3.4 or 5.0\n{USAGE}")),
             },
+            "--no-window" => window = false,
             "-k" => filter = Some(it.next().ok_or(USAGE)?),
             "-h" | "--help" => {
                 eprintln!("{USAGE}");
@@ -51,6 +63,7 @@ pub fn run(args: &[&str]) -> Result<(), String> {
     }
     let run34 = only != Some("5.0");
     let run50 = only != Some("3.4");
+    let run_window = run34 && window;
 
     // Fail on a missing Blender before building anything.
     if run34 && !have("blender") {
@@ -59,6 +72,17 @@ pub fn run(args: &[&str]) -> Result<(), String> {
              Install the Debian package `blender` (as root), or run `cargo xtask deps`."
                 .into(),
         );
+    }
+    if run_window {
+        for (tool, pkg) in [("xvfb-run", "xvfb"), ("xauth", "xauth")] {
+            if !have(tool) {
+                return Err(format!(
+                    "`{tool}` is not on the PATH: the Cut by Stroke tool's window test needs it. \
+                     Install the Debian package `{pkg}` (as root), run `cargo xtask deps`, or \
+                     pass --no-window"
+                ));
+            }
+        }
     }
     let python = if run50 { Some(venv_python()?) } else { None };
 
@@ -84,6 +108,10 @@ pub fn run(args: &[&str]) -> Result<(), String> {
             c
         })?;
         summary.push(format!("Blender 3.4: {n} passed"));
+    }
+    if run_window {
+        let n = run_window_tests(&zip, filter)?;
+        summary.push(format!("Blender 3.4 window (simulated events): {n} passed"));
     }
     if let Some(python) = python {
         let n = run_tests("5.0", &zip, &cli, filter, |script, rest| {
@@ -127,10 +155,16 @@ fn run_tests(
     let mut cmd = command(&script, &rest);
     cmd.current_dir(root());
     isolate(&mut cmd, &home);
-    eprintln!("xtask: $ {}", describe(&cmd));
+    summarize(label, &mut cmd, false)
+}
+
+/// Runs `cmd`, echoing its output, and reads its closing `N passed, M failed` line; returns
+/// N. `none_ok`: N = 0 passes (a `-k` filter that selects no case).
+fn summarize(label: &str, cmd: &mut Command, none_ok: bool) -> Result<u64, String> {
+    eprintln!("xtask: $ {}", describe(cmd));
     let out = cmd
         .output()
-        .map_err(|e| format!("cannot start `{}`: {e}", describe(&cmd)))?;
+        .map_err(|e| format!("cannot start `{}`: {e}", describe(cmd)))?;
     let stdout = String::from_utf8_lossy(&out.stdout);
     print!("{stdout}");
     eprint!("{}", String::from_utf8_lossy(&out.stderr));
@@ -142,7 +176,7 @@ fn run_tests(
         .find(|l| !l.trim().is_empty())
         .unwrap_or("");
     match (out.status.success(), counts) {
-        (true, Some((passed, 0))) if passed > 0 => Ok(passed),
+        (true, Some((passed, 0))) if passed > 0 || none_ok => Ok(passed),
         (_, Some((passed, failed))) => Err(format!(
             "Blender {label}: {passed} passed, {failed} failed (see FAIL above)"
         )),
@@ -151,6 +185,67 @@ fn run_tests(
             if ok { "exited 0" } else { "failed" }
         )),
     }
+}
+
+/// The Cut by Stroke tool's modal operator in Blender 3.4's real window under Xvfb, fed
+/// simulated events (`tests/blender/modal_test.py`); returns the number of passed cases.
+fn run_window_tests(zip: &Path, filter: Option<&str>) -> Result<u64, String> {
+    let home = target_dir().join("blender-test").join("3.4-window");
+    if home.exists() {
+        std::fs::remove_dir_all(&home).map_err(|e| format!("{}: {e}", home.display()))?;
+    }
+    std::fs::create_dir_all(&home).map_err(|e| format!("{}: {e}", home.display()))?;
+    // Blender shows its splash screen (which would take the events) unless it opens a file.
+    let scene = home.join("scene.blend");
+    save_startup_scene(&scene, &home)?;
+    let mut cmd = Command::new("xvfb-run");
+    cmd.args([
+        "-a",
+        "-s",
+        "-screen 0 1280x800x24",
+        "blender",
+        "--factory-startup",
+        "--window-geometry",
+        "0",
+        "0",
+        "1280",
+        "800",
+        "--python-exit-code",
+        "1",
+        "--enable-event-simulate",
+    ])
+    .arg(&scene)
+    .arg("--python")
+    .arg(root().join("tests/blender/modal_test.py"))
+    .arg("--")
+    .arg("--zip")
+    .arg(zip)
+    .arg("--out")
+    .arg(home.join("work"));
+    if let Some(k) = filter {
+        cmd.args(["-k", k]);
+    }
+    cmd.current_dir(root());
+    isolate(&mut cmd, &home);
+    summarize("3.4 (window)", &mut cmd, filter.is_some())
+}
+
+/// Saves Blender's factory startup scene to `scene`, with the user directories in `home`.
+fn save_startup_scene(scene: &Path, home: &Path) -> Result<(), String> {
+    let mut save = Command::new("blender");
+    save.args([
+        "-b",
+        "--factory-startup",
+        "--python-exit-code",
+        "1",
+        "--python-expr",
+    ])
+    .arg(format!(
+        "import bpy; bpy.ops.wm.save_as_mainfile(filepath={:?})",
+        scene.display().to_string()
+    ));
+    isolate(&mut save, home);
+    run_cmd(&mut save)
 }
 
 /// Points Blender's user directories (config, scripts, extensions) into `home`.
@@ -253,20 +348,7 @@ pub fn screenshot(args: &[&str]) -> Result<(), String> {
     let tmp = home.join("blender_subdivide.png");
     // Blender shows its splash screen unless it opens a file: save the startup scene first.
     let scene = home.join("scene.blend");
-    let mut save = Command::new("blender");
-    save.args([
-        "-b",
-        "--factory-startup",
-        "--python-exit-code",
-        "1",
-        "--python-expr",
-    ])
-    .arg(format!(
-        "import bpy; bpy.ops.wm.save_as_mainfile(filepath={:?})",
-        scene.display().to_string()
-    ));
-    isolate(&mut save, &home);
-    run_cmd(&mut save)?;
+    save_startup_scene(&scene, &home)?;
     let mut cmd = Command::new("xvfb-run");
     cmd.args([
         "-a",

@@ -1353,6 +1353,18 @@ KatachiStatus katachi_cut_copy_face_origin(const struct KatachiCut *cut,
                                            size_t capacity);
 
 /**
+ * Copies, for each vertex of the result, the vertex it duplicates: an opened cut's copy of
+ * a path vertex gives that vertex, every other vertex itself (`vertex_count` values). Vertex
+ * data of a copy is its original's.
+ *
+ * # Safety
+ * `cut` NULL or a live handle; `vertices` NULL or writable for `capacity` values.
+ */
+KatachiStatus katachi_cut_copy_vertex_original(const struct KatachiCut *cut,
+                                               uint32_t *vertices,
+                                               size_t capacity);
+
+/**
  * Copies the cut paths in compressed rows: `offsets` gets `path_count + 1` values (path `i`
  * is `vertices[offsets[i] .. offsets[i + 1]]`), `vertices` gets `path_vertex_count` result
  * vertex ids in stroke order; consecutive ones share an edge of the result. A closed path

@@ -1721,3 +1721,34 @@ fn edits_applied_by_hand_give_the_cut_mesh() {
         Err(Error::InvalidArgument(_))
     ));
 }
+
+#[test]
+fn vertex_original_names_the_vertex_each_opening_copy_duplicates() {
+    let (g, v) = grid_scene();
+    let mut o = through_all();
+    o.open = true;
+    let out = cut(&g, &[px(0.3, 1.2), px(4.1, 3.3), px(7.6, 6.3)], &v, &o);
+    let orig = out.vertex_original();
+    assert_eq!(orig.len(), out.mesh.vertex_count() as usize);
+    let copies: Vec<usize> = (0..orig.len()).filter(|&i| orig[i].idx() != i).collect();
+    // A slit (both ends inside faces): every path vertex but the two ends has one copy.
+    let p = &out.report.paths[0].vertices;
+    let path: BTreeSet<u32> = p[1..p.len() - 1].iter().map(|v| v.0).collect();
+    assert_eq!(copies.len(), path.len());
+    for &c in &copies {
+        let o = orig[c];
+        assert!(
+            path.contains(&o.0),
+            "copy {c} of {o:?} is not of a path vertex"
+        );
+        assert_eq!(out.mesh.position(VertexId(c as u32)), out.mesh.position(o));
+        assert_eq!(orig[o.idx()], o);
+    }
+    // Not opened: every vertex is its own.
+    let out = cut(&g, &[px(0.3, 1.2), px(7.6, 6.3)], &v, &through_all());
+    assert!(out
+        .vertex_original()
+        .iter()
+        .enumerate()
+        .all(|(i, v)| v.idx() == i));
+}

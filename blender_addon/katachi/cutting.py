@@ -8,7 +8,7 @@ How each kind of data follows the cut:
 
 - Vertices: katachi keeps input vertex ``v`` as result vertex ``v`` (maybe moved onto the
   stroke), so vertex data stays where it was. New vertices follow; an opened cut's copies
-  of path vertices take their original's data (a copy sits exactly where its original is),
+  of path vertices take their original's data (``katachi_cut_copy_vertex_original``),
   other new vertices get no crease. Vertex group weights and shape keys (as offsets from
   the mesh's own positions, so a key follows a vertex snapping moves) go through
   ``katachi_cut_interpolate_vertex_data``: a new vertex gets the blend of the triangle it
@@ -281,6 +281,7 @@ class CutResult:
         self.positions = None  # array('d'), 3 per result vertex
         self.corners = None  # array('I'), 3 per result triangle
         self.face_origin = None  # array('I'), input face of each triangle
+        self.vertex_original = None  # array('I'), the vertex each result vertex copies
         self.edge_tags = {}  # (a, b) with a < b -> input edge index
         self.paths = []  # [(vertex ids, closed)]
         self.moved = []  # [(vertex, from xyz, to xyz, pixels)]
@@ -304,6 +305,10 @@ def cut(lib, src, stroke_px, view_proj, viewport, options):
         h = c.handle
         out.face_origin = _zeros("I", info.face_count)
         lib.call("katachi_cut_copy_face_origin", h, _u32(out.face_origin), info.face_count)
+        out.vertex_original = _zeros("I", info.vertex_count)
+        lib.call(
+            "katachi_cut_copy_vertex_original", h, _u32(out.vertex_original), info.vertex_count
+        )
 
         offsets = _zeros("I", info.path_count + 1)
         verts = _zeros("I", info.path_vertex_count)
@@ -418,24 +423,8 @@ class _Built:
 
 def _vertex_bases(src, res):
     """Per result vertex: the result vertex it copies (an opened cut's copies of path
-    vertices sit exactly where their original is), else itself."""
-    nv_out = len(res.positions) // 3
-    base = array.array("I", range(nv_out))
-    if not res.info.new_vertex_count:
-        return base
-    p = res.positions
-    on_path = {}
-    for verts, _ in res.paths:
-        for v in verts:
-            on_path.setdefault((p[3 * v], p[3 * v + 1], p[3 * v + 2]), v)
-    path_set = {v for verts, _ in res.paths for v in verts}
-    for k in range(src.vertex_count, nv_out):
-        if k in path_set:
-            continue
-        v = on_path.get((p[3 * k], p[3 * k + 1], p[3 * k + 2]))
-        if v is not None:
-            base[k] = v
-    return base
+    vertices, from ``katachi_cut_copy_vertex_original``), else itself."""
+    return res.vertex_original
 
 
 def _path_edges(res):

@@ -238,6 +238,7 @@ FUNCTIONS = {
     "katachi_cut_info": (KatachiStatus, [POINTER(KatachiCut), POINTER(KatachiCutInfo)]),
     "katachi_cut_mesh": (KatachiStatus, [POINTER(KatachiCut), POINTER(POINTER(KatachiMesh))]),
     "katachi_cut_copy_face_origin": (KatachiStatus, [POINTER(KatachiCut), POINTER(c_uint32), c_size_t]),
+    "katachi_cut_copy_vertex_original": (KatachiStatus, [POINTER(KatachiCut), POINTER(c_uint32), c_size_t]),
     "katachi_cut_copy_paths": (KatachiStatus, [POINTER(KatachiCut), POINTER(c_uint32), c_size_t, POINTER(c_uint32), c_size_t]),
     "katachi_cut_copy_path_pieces": (KatachiStatus, [POINTER(KatachiCut), POINTER(c_uint32), POINTER(c_uint32), c_size_t]),
     "katachi_cut_copy_moved_vertices": (KatachiStatus, [POINTER(KatachiCut), POINTER(c_uint32), POINTER(c_double), POINTER(c_double), POINTER(c_double), c_size_t]),

@@ -26,12 +26,15 @@ pub(crate) fn on_segment(a: DVec2, b: DVec2, p: DVec2) -> bool {
 /// inside, `Some(false)` on its boundary, `None` outside.
 #[inline]
 pub(crate) fn in_triangle(a: DVec2, b: DVec2, c: DVec2, sign: f64, p: DVec2) -> Option<bool> {
-    let o = [orient(a, b, p), orient(b, c, p), orient(c, a, p)];
-    if o.iter().any(|&x| x * sign < 0.0) {
-        None
-    } else {
-        Some(o.iter().all(|&x| x != 0.0))
+    let mut strict = true;
+    for (u, v) in [(a, b), (b, c), (c, a)] {
+        let o = orient(u, v, p);
+        if o * sign < 0.0 {
+            return None;
+        }
+        strict &= o != 0.0;
     }
+    Some(strict)
 }
 
 /// Screen barycentric coordinates of p in abc (constructed, f64).

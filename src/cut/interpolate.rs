@@ -17,7 +17,7 @@ use rayon::prelude::*;
 use super::report::CutOutput;
 use super::triangulate;
 use crate::error::{Error, Result};
-use crate::mesh::PolyMesh;
+use crate::mesh::{PolyMesh, VertexId};
 
 /// What the interpolation needs beyond the output mesh; filled in by `cut_by_stroke`.
 #[derive(Debug, Clone, Default)]
@@ -142,6 +142,19 @@ impl CutOutput {
             }
         }
         Ok(out)
+    }
+
+    /// For each output vertex, the vertex it duplicates: an opened cut's copy of a path
+    /// vertex gives that vertex (an input vertex or one the cut made), every other vertex
+    /// itself. Front ends use it to give copies their original's data.
+    pub fn vertex_original(&self) -> Vec<VertexId> {
+        let p = &self.provenance;
+        (0..self.mesh.vertex_count())
+            .map(|v| match v.checked_sub(p.first_copy) {
+                Some(i) if (i as usize) < p.copy_of.len() => VertexId(p.copy_of[i as usize]),
+                _ => VertexId(v),
+            })
+            .collect()
     }
 
     fn check(

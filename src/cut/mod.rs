@@ -151,7 +151,7 @@ fn plan<'a>(
     // faces L is measured on (those the stroke meets) are in the region whatever the margin,
     // so L does not change and a second round always suffices.
     let l_guess = candidates::sample_edge_length(tm.positions(), tm.corners(), &proj);
-    let mut margin = 3.0 * max_ratio * l_guess;
+    let mut margin = 1.5 * max_ratio * l_guess;
     let (grid, clipped, mut region, l_px, l_world, degenerate_met) = loop {
         let grid = CellGrid::new(&segs, margin, margin.max(l_guess));
         let codes = candidates::vertex_codes(tm.positions(), &proj, &grid);

@@ -114,19 +114,34 @@ impl Region {
             })
             .collect();
 
-        // Edges: sort the directed corner edges by (min, max) and then by face and corner
-        // (packed keys: the sort is most of this function).
-        let mut he: Vec<(u64, u32)> = Vec::with_capacity(3 * tri.len());
+        // Edges: the directed corner edges ordered by (min, max, corner): a counting sort on
+        // the smaller end, then each vertex's few entries sorted in place.
+        let nv = verts.len();
+        let mut he_start = vec![0u32; nv + 1];
+        for t in &tri {
+            for i in 0..3 {
+                he_start[t[i].min(t[(i + 1) % 3]) as usize + 1] += 1;
+            }
+        }
+        for k in 0..nv {
+            he_start[k + 1] += he_start[k];
+        }
+        let mut fill = he_start.clone();
+        let mut he: Vec<(u64, u32)> = vec![(0, 0); 3 * tri.len()];
         for (lf, t) in tri.iter().enumerate() {
             for i in 0..3 {
                 let (a, b) = (t[i], t[(i + 1) % 3]);
-                he.push((
+                let slot = &mut fill[a.min(b) as usize];
+                he[*slot as usize] = (
                     (a.min(b) as u64) << 32 | a.max(b) as u64,
                     3 * lf as u32 + i as u32,
-                ));
+                );
+                *slot += 1;
             }
         }
-        he.sort_unstable();
+        for k in 0..nv {
+            he[he_start[k] as usize..he_start[k + 1] as usize].sort_unstable();
+        }
         let mut face_edges = vec![[NONE; 3]; tri.len()];
         let mut edges = Vec::new();
         let mut edge_faces = Vec::new();
@@ -169,7 +184,6 @@ impl Region {
         }
 
         // Vertex → faces (CSR, faces ascending within each vertex).
-        let nv = verts.len();
         let mut vf_start = vec![0u32; nv + 1];
         for t in &tri {
             for &v in t {

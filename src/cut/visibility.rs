@@ -129,6 +129,12 @@ impl FaceBuckets {
     pub fn hidden(&self, r: &Region, s: DVec2, z: f64, x: DVec3) -> bool {
         for lf in self.faces_at(s) {
             let [a, b, cc] = r.face_screen(lf);
+            // Outside the face's box is outside the face (exact comparisons); most bucket
+            // entries end here, before three orientation tests.
+            let (lo, hi) = (a.min(b).min(cc), a.max(b).max(cc));
+            if s.x < lo.x || s.y < lo.y || s.x > hi.x || s.y > hi.y {
+                continue;
+            }
             if in_triangle(a, b, cc, r.sign[lf as usize], s).is_none() {
                 continue;
             }

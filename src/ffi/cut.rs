@@ -476,6 +476,38 @@ pub unsafe extern "C" fn katachi_cut_copy_face_origin(
     })
 }
 
+/// Copies, for each vertex of the result, the vertex it duplicates: an opened cut's copy of
+/// a path vertex gives that vertex, every other vertex itself (`vertex_count` values). Vertex
+/// data of a copy is its original's.
+///
+/// # Safety
+/// `cut` NULL or a live handle; `vertices` NULL or writable for `capacity` values.
+#[no_mangle]
+pub unsafe extern "C" fn katachi_cut_copy_vertex_original(
+    cut: *const KatachiCut,
+    vertices: *mut u32,
+    capacity: usize,
+) -> KatachiStatus {
+    guard("katachi_cut_copy_vertex_original", || {
+        // SAFETY: the caller's promises above.
+        let c = unsafe { cut_ref(cut) }?;
+        let original = c.output.vertex_original();
+        let buf = unsafe {
+            out_buffer(
+                vertices,
+                capacity,
+                original.len(),
+                "vertices",
+                &"one per result vertex",
+            )
+        }?;
+        for (o, v) in buf.iter_mut().zip(&original) {
+            *o = v.0;
+        }
+        Ok(())
+    })
+}
+
 /// Copies the cut paths in compressed rows: `offsets` gets `path_count + 1` values (path `i`
 /// is `vertices[offsets[i] .. offsets[i + 1]]`), `vertices` gets `path_vertex_count` result
 /// vertex ids in stroke order; consecutive ones share an edge of the result. A closed path

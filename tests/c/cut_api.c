@@ -477,6 +477,32 @@ static void test_open_and_closed(void)
     CHECK("open cut: path vertices were duplicated",
           info.vertex_count == GRID_V + info.new_vertex_count &&
               mi.vertex_count == info.vertex_count);
+    {
+        /* Every copy sits where its original does, and every other vertex is its own
+           original. Boundary to boundary, every path vertex splits in two (its ends too). */
+        uint32_t *orig = alloc(info.vertex_count, sizeof *orig);
+        double *pos = alloc(3 * (size_t)info.vertex_count, sizeof *pos);
+        uint32_t v, copies = 0;
+        int same = 1;
+        CHECK_ERR("vertex original: short buffer",
+                  katachi_cut_copy_vertex_original(cut, orig, info.vertex_count - 1),
+                  KATACHI_STATUS_BUFFER_TOO_SMALL, "vertices");
+        CHECK_OK("vertex original", katachi_cut_copy_vertex_original(cut, orig, info.vertex_count));
+        CHECK_OK("open cut: positions",
+                 katachi_mesh_copy_positions(out, pos, 3 * (size_t)info.vertex_count));
+        for (v = 0; v < info.vertex_count; v++) {
+            if (orig[v] != v) {
+                copies++;
+                same = same && orig[v] < v && orig[orig[v]] == orig[v] &&
+                       pos[3 * v] == pos[3 * orig[v]] && pos[3 * v + 1] == pos[3 * orig[v] + 1] &&
+                       pos[3 * v + 2] == pos[3 * orig[v] + 2];
+            }
+        }
+        CHECK("open cut: copies sit on their originals", same && copies > 0);
+        CHECK("open cut: one copy per path vertex", copies == info.path_vertex_count);
+        free(orig);
+        free(pos);
+    }
     katachi_mesh_free(out);
     out = NULL;
     katachi_cut_free(cut);

@@ -724,23 +724,7 @@ pub unsafe extern "C" fn katachi_cut_interpolate_corner_data(
 ) -> KatachiStatus {
     guard("katachi_cut_interpolate_corner_data", || {
         // SAFETY: the caller's promises above.
-        let c = unsafe { cut_ref(cut) }?;
-        let nout = data_size(c.output.mesh.corner_count(), dim, "corner")?;
-        let nin = data_size(c.input.corner_count(), dim, "corner")?;
-        if value_count != nin {
-            return Err(FfiError::invalid(format!(
-                "value_count is {value_count}, but the input mesh has {} corners × dim {dim} = \
-                 {nin}",
-                c.input.corner_count()
-            )));
-        }
-        let values = unsafe { slice(values, value_count, "values", &"value_count > 0") }?;
-        let buf = unsafe { out_buffer(out, capacity, nout, "out", &"corner_count × dim") }?;
-        let result = c
-            .output
-            .interpolate_corner_data(&c.input, values, dim as usize)?;
-        buf.copy_from_slice(&result);
-        Ok(())
+        unsafe { interpolate(cut, values, value_count, dim, out, capacity, Per::Corner) }
     })
 }
 
@@ -765,22 +749,65 @@ pub unsafe extern "C" fn katachi_cut_interpolate_vertex_data(
 ) -> KatachiStatus {
     guard("katachi_cut_interpolate_vertex_data", || {
         // SAFETY: the caller's promises above.
-        let c = unsafe { cut_ref(cut) }?;
-        let nout = data_size(c.output.mesh.vertex_count(), dim, "vertex")?;
-        let nin = data_size(c.input.vertex_count(), dim, "vertex")?;
-        if value_count != nin {
-            return Err(FfiError::invalid(format!(
-                "value_count is {value_count}, but the input mesh has {} vertices × dim {dim} = \
-                 {nin}",
-                c.input.vertex_count()
-            )));
-        }
-        let values = unsafe { slice(values, value_count, "values", &"value_count > 0") }?;
-        let buf = unsafe { out_buffer(out, capacity, nout, "out", &"vertex_count × dim") }?;
-        let result = c
-            .output
-            .interpolate_vertex_data(&c.input, values, dim as usize)?;
-        buf.copy_from_slice(&result);
-        Ok(())
+        unsafe { interpolate(cut, values, value_count, dim, out, capacity, Per::Vertex) }
     })
+}
+
+/// What the data given to the interpolation calls is attached to.
+#[derive(Clone, Copy)]
+enum Per {
+    Corner,
+    Vertex,
+}
+
+/// The body of `katachi_cut_interpolate_corner_data` and `_vertex_data`.
+///
+/// # Safety
+/// As those functions.
+unsafe fn interpolate(
+    cut: *const KatachiCut,
+    values: *const f64,
+    value_count: usize,
+    dim: u32,
+    out: *mut f64,
+    capacity: usize,
+    per: Per,
+) -> FfiResult<()> {
+    // SAFETY: forwarded to the caller.
+    let c = unsafe { cut_ref(cut) }?;
+    let (n_in, n_out, what, plural) = match per {
+        Per::Corner => (
+            c.input.corner_count(),
+            c.output.mesh.corner_count(),
+            "corner",
+            "corners",
+        ),
+        Per::Vertex => (
+            c.input.vertex_count(),
+            c.output.mesh.vertex_count(),
+            "vertex",
+            "vertices",
+        ),
+    };
+    let nout = data_size(n_out, dim, what)?;
+    let nin = data_size(n_in, dim, what)?;
+    if value_count != nin {
+        return Err(FfiError::invalid(format!(
+            "value_count is {value_count}, but the input mesh has {n_in} {plural} × dim {dim} = \
+             {nin}"
+        )));
+    }
+    let values = unsafe { slice(values, value_count, "values", &"value_count > 0") }?;
+    let expected = format!("{what}_count × dim");
+    let buf = unsafe { out_buffer(out, capacity, nout, "out", &expected) }?;
+    let result = match per {
+        Per::Corner => c
+            .output
+            .interpolate_corner_data(&c.input, values, dim as usize)?,
+        Per::Vertex => c
+            .output
+            .interpolate_vertex_data(&c.input, values, dim as usize)?,
+    };
+    buf.copy_from_slice(&result);
+    Ok(())
 }

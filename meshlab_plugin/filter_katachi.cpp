@@ -76,6 +76,68 @@ struct Result {
     uint32_t polygon_count = 0;
 };
 
+/// A layer's triangles in katachi's terms: its vertices and faces without the deleted ones,
+/// in the layer's order, and the corners face after face as indices into those vertices.
+struct LayerTriangles {
+    std::vector<const CVertexO *> verts;
+    std::vector<const CFaceO *> faces;
+    std::vector<double> positions; // 3 per vertex
+    std::vector<uint32_t> corners; // 3 per face
+};
+
+/// Reads the layer `src` (nothing in it changes); false, with `error`, when a face refers
+/// to a deleted or missing vertex.
+bool read_layer(MeshModel *src, LayerTriangles &out, QString &error) {
+    CMeshO &cm = src->cm;
+    std::vector<uint32_t> vertex_index(cm.vert.size(), UINT32_MAX);
+    out.verts.reserve(size_t(cm.vn));
+    out.positions.reserve(3 * size_t(cm.vn));
+    for (size_t i = 0; i < cm.vert.size(); ++i) {
+        if (cm.vert[i].IsD()) continue;
+        vertex_index[i] = uint32_t(out.verts.size());
+        out.verts.push_back(&cm.vert[i]);
+        for (int k = 0; k < 3; ++k) out.positions.push_back(double(cm.vert[i].P()[k]));
+    }
+    out.faces.reserve(size_t(cm.fn));
+    out.corners.reserve(3 * size_t(cm.fn));
+    for (size_t f = 0; f < cm.face.size(); ++f) {
+        const CFaceO &face = cm.face[f];
+        if (face.IsD()) continue;
+        for (int i = 0; i < 3; ++i) {
+            const CVertexO *v = face.cV(i);
+            const size_t vi = v == nullptr ? cm.vert.size() : size_t(v - cm.vert.data());
+            if (vi >= cm.vert.size() || vertex_index[vi] == UINT32_MAX) {
+                error = QString("katachi: face %1 of layer '%2' refers to a deleted or missing "
+                                "vertex")
+                            .arg(f)
+                            .arg(src->label());
+                return false;
+            }
+            out.corners.push_back(vertex_index[vi]);
+        }
+        out.faces.push_back(&face);
+    }
+    return true;
+}
+
+/// A katachi mesh of simple faces (`sizes` corners each, one loop per face); null, with
+/// `error` set, when katachi refuses it.
+MeshPtr create_mesh(const std::vector<double> &positions, const std::vector<uint32_t> &sizes,
+                    const std::vector<uint32_t> &corners, QString &error) {
+    const std::vector<uint32_t> face_loop_counts(sizes.size(), 1u);
+    KatachiMesh *raw = nullptr;
+    const KatachiStatus st = katachi_mesh_create(
+        positions.data(), uint32_t(positions.size() / 3), sizes.data(), uint32_t(sizes.size()),
+        face_loop_counts.data(), uint32_t(face_loop_counts.size()), corners.data(),
+        uint32_t(corners.size()), &raw);
+    MeshPtr mesh(raw);
+    if (st != KATACHI_STATUS_OK) {
+        error = katachi_error(st);
+        mesh.reset();
+    }
+    return mesh;
+}
+
 } // namespace
 
 KatachiFilterPlugin::KatachiFilterPlugin() {
@@ -316,36 +378,15 @@ bool KatachiFilterPlugin::subdivide(MeshDocument &md, const RichParameterList &p
 
     // 1. MeshLab's layer -> katachi mesh (nothing in the layer changes).
     if (cb) cb(5, "katachi: reading the mesh");
-    CMeshO &cm = src->cm;
-    std::vector<uint32_t> vertex_index(cm.vert.size(), UINT32_MAX);
-    std::vector<double> positions;
-    positions.reserve(3 * size_t(cm.vn));
-    uint32_t vertex_count = 0;
-    for (size_t i = 0; i < cm.vert.size(); ++i) {
-        if (cm.vert[i].IsD()) continue;
-        vertex_index[i] = vertex_count++;
-        for (int k = 0; k < 3; ++k) positions.push_back(double(cm.vert[i].P()[k]));
-    }
+    LayerTriangles layer;
+    if (!read_layer(src, layer, error)) return false;
     FauxTriangles tris;
-    tris.corners.reserve(3 * size_t(cm.fn));
-    tris.faux.reserve(size_t(cm.fn));
-    for (size_t f = 0; f < cm.face.size(); ++f) {
-        const CFaceO &face = cm.face[f];
-        if (face.IsD()) continue;
+    tris.corners = std::move(layer.corners);
+    tris.faux.reserve(layer.faces.size());
+    for (const CFaceO *face : layer.faces) {
         uint8_t faux = 0;
-        for (int i = 0; i < 3; ++i) {
-            const CVertexO *v = face.cV(i);
-            const size_t vi = v == nullptr ? cm.vert.size() : size_t(v - cm.vert.data());
-            if (vi >= cm.vert.size() || vertex_index[vi] == UINT32_MAX) {
-                error = QString("katachi: face %1 of layer '%2' refers to a deleted or missing "
-                                "vertex")
-                            .arg(f)
-                            .arg(src->label());
-                return false;
-            }
-            tris.corners.push_back(vertex_index[vi]);
-            if (face.IsF(i)) faux |= uint8_t(1u << i);
-        }
+        for (int i = 0; i < 3; ++i)
+            if (face->IsF(i)) faux |= uint8_t(1u << i);
         tris.faux.push_back(faux);
     }
     if (tris.faux.empty()) {
@@ -361,22 +402,13 @@ bool KatachiFilterPlugin::subdivide(MeshDocument &md, const RichParameterList &p
         note(QString("katachi: %1 faux edge(s) had no faux neighbour and count as real edges")
                  .arg(polys.unmatched_faux_edges));
 
-    std::vector<uint32_t> face_loop_counts(polys.sizes.size(), 1u);
-    KatachiMesh *raw = nullptr;
-    KatachiStatus st = katachi_mesh_create(
-        positions.data(), vertex_count, polys.sizes.data(), uint32_t(polys.sizes.size()),
-        face_loop_counts.data(), uint32_t(face_loop_counts.size()), polys.corners.data(),
-        uint32_t(polys.corners.size()), &raw);
-    MeshPtr input(raw);
-    if (st != KATACHI_STATUS_OK) {
-        error = katachi_error(st);
-        return false;
-    }
+    MeshPtr input = create_mesh(layer.positions, polys.sizes, polys.corners, error);
+    if (!input) return false;
 
     // 2. Subdivide.
     if (cb) cb(20, "katachi: subdividing");
     KatachiSubdivision *raw_sub = nullptr;
-    st = katachi_subdivide(input.get(), &options, &raw_sub);
+    KatachiStatus st = katachi_subdivide(input.get(), &options, &raw_sub);
     SubdivisionPtr sub(raw_sub);
     if (st != KATACHI_STATUS_OK) {
         error = katachi_error(st);
@@ -395,7 +427,7 @@ bool KatachiFilterPlugin::subdivide(MeshDocument &md, const RichParameterList &p
                          "was used for it")
                      .arg(QString::fromUtf8(reason)));
     }
-    raw = nullptr;
+    KatachiMesh *raw = nullptr;
     st = katachi_subdivision_mesh(sub.get(), &raw);
     MeshPtr refined(raw);
     if (st != KATACHI_STATUS_OK) {
@@ -538,45 +570,19 @@ bool KatachiFilterPlugin::cutByPolyline(MeshDocument &md, const RichParameterLis
     // 2. The layer -> katachi (triangles as they are, so katachi's face origins are the
     //    layer's faces and its corners the layer's wedges).
     if (cb) cb(5, "katachi: reading the mesh");
-    std::vector<uint32_t> vertex_index(cm.vert.size(), UINT32_MAX);
-    std::vector<const CVertexO *> verts;
-    std::vector<double> positions;
-    verts.reserve(size_t(cm.vn));
-    positions.reserve(3 * size_t(cm.vn));
+    LayerTriangles layer;
+    if (!read_layer(src, layer, error)) return false;
+    std::vector<const CVertexO *> &verts = layer.verts;
+    std::vector<const CFaceO *> &faces = layer.faces;
+    const std::vector<double> &positions = layer.positions;
+    const std::vector<uint32_t> &corners = layer.corners;
     double lo[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi[3] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
-    for (size_t i = 0; i < cm.vert.size(); ++i) {
-        if (cm.vert[i].IsD()) continue;
-        vertex_index[i] = uint32_t(verts.size());
-        verts.push_back(&cm.vert[i]);
-        for (int k = 0; k < 3; ++k) {
-            const double x = double(cm.vert[i].P()[k]);
-            positions.push_back(x);
-            if (std::isfinite(x)) {
-                lo[k] = std::min(lo[k], x);
-                hi[k] = std::max(hi[k], x);
-            }
+    for (size_t i = 0; i < positions.size(); ++i) {
+        const double x = positions[i];
+        if (std::isfinite(x)) {
+            lo[i % 3] = std::min(lo[i % 3], x);
+            hi[i % 3] = std::max(hi[i % 3], x);
         }
-    }
-    std::vector<const CFaceO *> faces;
-    std::vector<uint32_t> corners;
-    faces.reserve(size_t(cm.fn));
-    corners.reserve(3 * size_t(cm.fn));
-    for (size_t f = 0; f < cm.face.size(); ++f) {
-        const CFaceO &face = cm.face[f];
-        if (face.IsD()) continue;
-        for (int i = 0; i < 3; ++i) {
-            const CVertexO *v = face.cV(i);
-            const size_t vi = v == nullptr ? cm.vert.size() : size_t(v - cm.vert.data());
-            if (vi >= cm.vert.size() || vertex_index[vi] == UINT32_MAX) {
-                error = QString("katachi: face %1 of layer '%2' refers to a deleted or missing "
-                                "vertex")
-                            .arg(f)
-                            .arg(src->label());
-                return false;
-            }
-            corners.push_back(vertex_index[vi]);
-        }
-        faces.push_back(&face);
     }
     if (faces.empty()) {
         error = QString("katachi: layer '%1' has no faces to cut").arg(src->label());
@@ -624,19 +630,12 @@ bool KatachiFilterPlugin::cutByPolyline(MeshDocument &md, const RichParameterLis
     if (cb) cb(15, "katachi: cutting");
     const uint32_t vertex_count = uint32_t(verts.size());
     const uint32_t face_count = uint32_t(faces.size());
-    std::vector<uint32_t> sizes(face_count, 3u), loops(face_count, 1u);
-    KatachiMesh *raw = nullptr;
-    KatachiStatus st = katachi_mesh_create(positions.data(), vertex_count, sizes.data(),
-                                           face_count, loops.data(), face_count,
-                                           corners.data(), uint32_t(corners.size()), &raw);
-    MeshPtr input(raw);
-    if (st != KATACHI_STATUS_OK) {
-        error = katachi_error(st);
-        return false;
-    }
+    MeshPtr input = create_mesh(positions, std::vector<uint32_t>(face_count, 3u), corners, error);
+    if (!input) return false;
     KatachiCut *raw_cut = nullptr;
-    st = katachi_cut_by_stroke(input.get(), stroke.data(), uint32_t(stroke.size() / 2),
-                               view.view_proj, view.viewport, &options, &raw_cut);
+    KatachiStatus st =
+        katachi_cut_by_stroke(input.get(), stroke.data(), uint32_t(stroke.size() / 2),
+                              view.view_proj, view.viewport, &options, &raw_cut);
     CutPtr cut(raw_cut);
     if (st != KATACHI_STATUS_OK) {
         error = katachi_error(st);
@@ -669,7 +668,7 @@ bool KatachiFilterPlugin::cutByPolyline(MeshDocument &md, const RichParameterLis
     }
 
     CutResult out;
-    raw = nullptr;
+    KatachiMesh *raw = nullptr;
     st = katachi_cut_mesh(cut.get(), &raw);
     MeshPtr result(raw);
     std::vector<uint32_t> loop_sizes(info.face_count), loops_per_face(info.face_count);

@@ -232,6 +232,25 @@ fn stroke_file(path: &Path, eye: [f64; 3], a: [f64; 2], b: [f64; 2], extra: &str
     .unwrap();
 }
 
+/// `katachi cut` of the chamfer cube into `out` along the stroke file `stroke`, with `flags`.
+fn cut_chamfer_cube(out: &Path, stroke: &Path, flags: &[&str]) -> Output {
+    let model = example("chamfer-cube.off");
+    let mut args = vec![
+        "cut",
+        &model,
+        out.to_str().unwrap(),
+        "--stroke",
+        stroke.to_str().unwrap(),
+    ];
+    args.extend_from_slice(flags);
+    katachi(&args)
+}
+
+/// The JSON file at `path`.
+fn read_json(path: &Path) -> serde_json::Value {
+    serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
+}
+
 #[test]
 fn cut_command() {
     let d = tmp("cut");
@@ -245,15 +264,7 @@ fn cut_command() {
         [390.0, 260.0],
         ", \"mode\": \"visible-only\"",
     );
-    let o = katachi(&[
-        "cut",
-        &example("chamfer-cube.off"),
-        out.to_str().unwrap(),
-        "--stroke",
-        stroke.to_str().unwrap(),
-        "--report",
-        report.to_str().unwrap(),
-    ]);
+    let o = cut_chamfer_cube(&out, &stroke, &["--report", report.to_str().unwrap()]);
     assert!(o.status.success(), "{}", stderr(&o));
     let s = stdout(&o);
     for needle in [
@@ -271,8 +282,7 @@ fn cut_command() {
     assert!(mesh.face_count() > 44, "{}", mesh.face_count());
     let r = katachi::mesh::inspect(&mesh).unwrap();
     assert!(r.is_manifold() && r.is_closed() && r.genus == Some(0));
-    let rep: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(&report).unwrap()).unwrap();
+    let rep = read_json(&report);
     assert_eq!(rep["mode"], "visible-only");
     assert_eq!(rep["face_count"], mesh.face_count());
     assert_eq!(rep["paths"].as_array().unwrap().len(), 1);
@@ -289,26 +299,24 @@ fn cut_command() {
 
     // The flags override the file: through-all cuts the back too, and opened the cube falls
     // apart along the two paths, which meet at the silhouette.
-    let o = katachi(&[
-        "cut",
-        &example("chamfer-cube.off"),
-        out.to_str().unwrap(),
-        "--stroke",
-        stroke.to_str().unwrap(),
-        "--mode",
-        "through-all",
-        "--open",
-        "--report",
-        report.to_str().unwrap(),
-    ]);
+    let o = cut_chamfer_cube(
+        &out,
+        &stroke,
+        &[
+            "--mode",
+            "through-all",
+            "--open",
+            "--report",
+            report.to_str().unwrap(),
+        ],
+    );
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(
         stdout(&o).contains("(through-all, opened)"),
         "{}",
         stdout(&o)
     );
-    let rep: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(&report).unwrap()).unwrap();
+    let rep = read_json(&report);
     assert_eq!(rep["mode"], "through-all");
     assert_eq!(rep["open"], true);
     assert_eq!(rep["paths"].as_array().unwrap().len(), 2, "front and back");
@@ -404,13 +412,7 @@ fn cut_stroke_file_errors_name_the_field() {
     for (name, content, expect) in cases {
         let path = d.join(name);
         std::fs::write(&path, content).unwrap();
-        let o = katachi(&[
-            "cut",
-            &example("chamfer-cube.off"),
-            out.to_str().unwrap(),
-            "--stroke",
-            path.to_str().unwrap(),
-        ]);
+        let o = cut_chamfer_cube(&out, &path, &[]);
         assert_eq!(o.status.code(), Some(2), "{name}: {}", stderr(&o));
         let e = stderr(&o);
         assert_eq!(e.lines().count(), 1, "{name}: one line: {e}");
@@ -419,24 +421,10 @@ fn cut_stroke_file_errors_name_the_field() {
     }
     assert!(!out.exists(), "no output after a failure");
     // A missing stroke file, and a bad --mode.
-    let o = katachi(&[
-        "cut",
-        &example("chamfer-cube.off"),
-        out.to_str().unwrap(),
-        "--stroke",
-        d.join("missing.json").to_str().unwrap(),
-    ]);
+    let o = cut_chamfer_cube(&out, &d.join("missing.json"), &[]);
     assert_eq!(o.status.code(), Some(2));
     assert!(stderr(&o).contains("missing.json"), "{}", stderr(&o));
-    let o = katachi(&[
-        "cut",
-        &example("chamfer-cube.off"),
-        out.to_str().unwrap(),
-        "--stroke",
-        good.to_str().unwrap(),
-        "--mode",
-        "sideways",
-    ]);
+    let o = cut_chamfer_cube(&out, &good, &["--mode", "sideways"]);
     assert_eq!(o.status.code(), Some(2));
     assert!(
         stderr(&o).contains("visible-only") && stderr(&o).contains("through-all"),

@@ -191,8 +191,10 @@ def _f64(a):
     return ffi.ptr(a, c_double)
 
 
-def to_katachi(lib, data):
-    """A new :class:`ffi.Mesh` holding ``data`` with its edge and vertex sharpness."""
+def create_mesh(lib, data):
+    """A new :class:`ffi.Mesh` of ``data``'s simple faces: ``positions``, ``vertex_count``,
+    ``loop_sizes``, ``face_count``, ``corners`` and ``corner_count`` (an :class:`InputMesh`
+    or a ``cutting.CutSource``)."""
     handle = POINTER(ffi.KatachiMesh)()
     face_loops = array.array("I", [1]) * data.face_count
     lib.call(
@@ -207,7 +209,12 @@ def to_katachi(lib, data):
         data.corner_count,
         byref(handle),
     )
-    mesh = ffi.Mesh(lib, handle)
+    return ffi.Mesh(lib, handle)
+
+
+def to_katachi(lib, data):
+    """A new :class:`ffi.Mesh` holding ``data`` with its edge and vertex sharpness."""
+    mesh = create_mesh(lib, data)
     try:
         if len(data.sharp_values):
             lib.call(
@@ -245,6 +252,12 @@ class Result:
 
     def __init__(self):
         self.warnings = []  # what the user should know, for self.report({'WARNING'})
+
+
+def _copy_positions(lib, mesh, counts):
+    positions = _zeros("d", 3 * counts.vertex_count)
+    lib.call("katachi_mesh_copy_positions", mesh.handle, _f64(positions), len(positions))
+    return positions
 
 
 def _copy_faces(lib, mesh, counts):
@@ -316,13 +329,7 @@ def subdivide(lib, data, options, uv_mode, progress=None):
             out.face_origin = origin
         try:
             fcounts = final.counts()
-            out.positions = _zeros("d", 3 * fcounts.vertex_count)
-            lib.call(
-                "katachi_mesh_copy_positions",
-                final.handle,
-                _f64(out.positions),
-                len(out.positions),
-            )
+            out.positions = _copy_positions(lib, final, fcounts)
             out.loop_sizes, _, out.corners = _copy_faces(lib, final, fcounts)
             if corner_of is not None:
                 out.face_origin = final.face_origin
@@ -445,21 +452,9 @@ def to_blender(result, source, name):
 
 def _fill(me, result, source):
     nv = len(result.positions) // 3
-    nf = len(result.loop_sizes)
-    nc = len(result.corners)
     me.vertices.add(nv)
     me.vertices.foreach_set("co", array.array("f", result.positions))
-    me.loops.add(nc)
-    me.loops.foreach_set("vertex_index", result.corners)
-    me.polygons.add(nf)
-    starts = _zeros("I", nf)
-    s = 0
-    for f, n in enumerate(result.loop_sizes):
-        starts[f] = s
-        s += n
-    me.polygons.foreach_set("loop_start", starts)
-    if not ATTRIBUTE_CREASES:
-        me.polygons.foreach_set("loop_total", result.loop_sizes)
+    add_faces(me, result.loop_sizes, result.corners)
 
     # Face data follows the input face each face comes from.
     src_mat = _zeros("I", len(source.polygons))
@@ -477,10 +472,7 @@ def _fill(me, result, source):
     repair_selection_attributes(me)
 
     for name, uv in result.uv_layers:
-        layer = me.uv_layers.new(name=name, do_init=False)
-        if layer is None:
-            raise ConversionError(f"Blender refused UV map {name!r} (too many UV maps?)")
-        layer.data.foreach_set("uv", array.array("f", uv))
+        add_uv_map(me, name, array.array("f", uv))
     for i, layer in enumerate(source.uv_layers):
         if i < len(me.uv_layers):
             if layer.active_render:
@@ -489,14 +481,45 @@ def _fill(me, result, source):
         me.uv_layers.active_index = source.uv_layers.active_index
 
     _write_creases(me, result)
+    finish(me, source, "subdivided")
 
+
+def add_faces(me, loop_sizes, loop_verts):
+    """Adds faces to the empty ``me`` (whose vertices are in): ``loop_sizes`` corners each,
+    at the vertices ``loop_verts`` (face after face)."""
+    nf = len(loop_sizes)
+    me.loops.add(len(loop_verts))
+    me.loops.foreach_set("vertex_index", loop_verts)
+    me.polygons.add(nf)
+    starts = _zeros("I", nf)
+    s = 0
+    for f, n in enumerate(loop_sizes):
+        starts[f] = s
+        s += n
+    me.polygons.foreach_set("loop_start", starts)
+    if not ATTRIBUTE_CREASES:
+        me.polygons.foreach_set("loop_total", loop_sizes)
+
+
+def add_uv_map(me, name, uv):
+    """A new UV map ``name`` on ``me`` holding ``uv`` (``array('f')``, 2 per loop)."""
+    layer = me.uv_layers.new(name=name, do_init=False)
+    if layer is None:
+        raise ConversionError(f"Blender refused UV map {name!r} (too many UV maps?)")
+    layer.data.foreach_set("uv", uv)
+
+
+def finish(me, source, what):
+    """The new mesh ``me`` takes the auto smooth settings of ``source`` (Blender < 4.1) and
+    is validated: :class:`ConversionError` (naming the ``what`` mesh) when Blender finds it
+    invalid."""
     if hasattr(source, "use_auto_smooth"):  # Blender < 4.1
         me.use_auto_smooth = source.use_auto_smooth
         me.auto_smooth_angle = source.auto_smooth_angle
 
     if me.validate(verbose=False):
         raise ConversionError(
-            "Blender found the subdivided mesh invalid; the object was left as it was "
+            f"Blender found the {what} mesh invalid; the object was left as it was "
             "(please report this as a katachi bug)"
         )
 
@@ -541,14 +564,32 @@ def _write_creases(me, result):
             attr = me.attributes.new("crease_vert", "FLOAT", "POINT")
             attr.data.foreach_set("value", vc)
         else:
-            import bmesh  # Blender 3.x has no Python call that adds a vertex-crease layer
+            write_with_bmesh(me, vc)
 
-            bm = bmesh.new()
-            try:
-                bm.from_mesh(me)
-                layer = bm.verts.layers.crease.verify()
-                for v, c in zip(bm.verts, vc):
-                    v[layer] = c
-                bm.to_mesh(me)
-            finally:
-                bm.free()
+
+def write_with_bmesh(me, creases, weights=None, groups=0):
+    """Vertex creases (Blender 3.x, which has no Python call that adds their layer) and
+    vertex group weights (``groups`` per vertex; a mesh without an object has no other way
+    to get them)."""
+    import bmesh
+
+    bm = bmesh.new()
+    try:
+        bm.from_mesh(me)
+        bm.verts.ensure_lookup_table()
+        if creases is not None:
+            layer = bm.verts.layers.crease.verify()
+            for v, c in zip(bm.verts, creases):
+                v[layer] = c
+        if weights is not None:
+            layer = bm.verts.layers.deform.verify()
+            for i, v in enumerate(bm.verts):
+                row = weights[i * groups:(i + 1) * groups]
+                if any(row):
+                    d = v[layer]
+                    for g, w in enumerate(row):
+                        if w > 0.0:
+                            d[g] = w
+        bm.to_mesh(me)
+    finally:
+        bm.free()

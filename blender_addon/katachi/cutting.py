@@ -40,10 +40,18 @@ from .convert import (
     ConversionError,
     _bools,
     _copy_faces,
+    _copy_positions,
     _f64,
+    _float_attribute,
     _u32,
+    _vertex_creases,
     _zeros,
+    add_faces,
+    add_uv_map,
+    create_mesh,
+    finish,
     repair_selection_attributes,
+    write_with_bmesh,
 )
 
 #: Per-edge data carried by the edge tags: RNA properties of ``MeshEdge`` (both versions).
@@ -147,12 +155,9 @@ def _read_edge_data(mesh, ne):
             data[name] = ("flag", values)
     if ATTRIBUTE_CREASES:
         for name in EDGE_FLOATS_4X:
-            attr = mesh.attributes.get(name)
-            if attr is not None and attr.domain == "EDGE" and attr.data_type == "FLOAT":
-                values = _zeros("f", ne)
-                attr.data.foreach_get("value", values)
-                if any(values):
-                    data[name] = ("attribute", values)
+            values = _float_attribute(mesh, name, "EDGE", ne)
+            if values is not None and any(values):
+                data[name] = ("attribute", values)
         attr = mesh.attributes.get(FREESTYLE_4X)
         if attr is not None and attr.domain == "EDGE" and attr.data_type == "BOOLEAN":
             values = _bools(ne)
@@ -221,19 +226,8 @@ def _read_shape_keys(mesh, positions):
 
 
 def _read_vertex_creases(mesh, nv):
-    if ATTRIBUTE_CREASES:
-        attr = mesh.attributes.get("crease_vert")
-        if attr is None or attr.domain != "POINT" or attr.data_type != "FLOAT":
-            return None
-        values = _zeros("f", nv)
-        attr.data.foreach_get("value", values)
-    else:
-        layers = getattr(mesh, "vertex_creases", None)
-        if not layers or len(layers) == 0:
-            return None
-        values = _zeros("f", nv)
-        layers[0].data.foreach_get("value", values)
-    return values if any(values) else None
+    values = _vertex_creases(mesh, nv)
+    return values if values is not None and any(values) else None
 
 
 # ---------------------------------------------------------------------------- katachi
@@ -241,21 +235,7 @@ def _read_vertex_creases(mesh, nv):
 
 def _to_katachi(lib, src):
     """A new :class:`ffi.Mesh` of ``src`` whose edges carry their tags (index + 1)."""
-    handle = POINTER(ffi.KatachiMesh)()
-    face_loops = array.array("I", [1]) * src.face_count
-    lib.call(
-        "katachi_mesh_create",
-        _f64(src.positions),
-        src.vertex_count,
-        _u32(src.loop_sizes),
-        src.face_count,
-        _u32(face_loops),
-        src.face_count,
-        _u32(src.corners),
-        src.corner_count,
-        byref(handle),
-    )
-    mesh = ffi.Mesh(lib, handle)
+    mesh = create_mesh(lib, src)
     try:
         n = len(src.used_edges)
         if n:
@@ -365,8 +345,7 @@ def cut(lib, src, stroke_px, view_proj, viewport, options):
         lib.call("katachi_cut_mesh", h, byref(mhandle))
     with ffi.Mesh(lib, mhandle) as m:
         counts = m.counts()
-        out.positions = _zeros("d", 3 * counts.vertex_count)
-        lib.call("katachi_mesh_copy_positions", m.handle, _f64(out.positions), len(out.positions))
+        out.positions = _copy_positions(lib, m, counts)
         sizes, _, out.corners = _copy_faces(lib, m, counts)
         if any(s != 3 for s in sizes):
             raise ConversionError("katachi's cut gave a face that is not a triangle (a bug)")
@@ -543,17 +522,7 @@ def _fill(me, src, res, built, base, source_mesh):
         for e in src.loose_edges:
             loose.extend(src.edge_verts[2 * e:2 * e + 2])
         me.edges.foreach_set("vertices", loose)
-    me.loops.add(nl)
-    me.loops.foreach_set("vertex_index", built.loop_verts)
-    me.polygons.add(nf)
-    starts = _zeros("I", nf)
-    s = 0
-    for f, n in enumerate(built.loop_sizes):
-        starts[f] = s
-        s += n
-    me.polygons.foreach_set("loop_start", starts)
-    if not ATTRIBUTE_CREASES:
-        me.polygons.foreach_set("loop_total", built.loop_sizes)
+    add_faces(me, built.loop_sizes, built.loop_verts)
 
     origin = built.face_origin
     me.polygons.foreach_set("material_index", array.array("I", (src.materials[o] for o in origin)))
@@ -568,10 +537,7 @@ def _fill(me, src, res, built, base, source_mesh):
         raise ConversionError("Blender changed the cut mesh while building it (a bug)")
 
     for name, uv in zip(src.uv_names, built.uvs):
-        layer = me.uv_layers.new(name=name, do_init=False)
-        if layer is None:
-            raise ConversionError(f"Blender refused UV map {name!r} (too many UV maps?)")
-        layer.data.foreach_set("uv", uv)
+        add_uv_map(me, name, uv)
     if 0 <= src.active_render_uv < len(me.uv_layers):
         me.uv_layers[src.active_render_uv].active_render = True
     if 0 <= src.active_uv < len(me.uv_layers):
@@ -623,7 +589,7 @@ def _fill(me, src, res, built, base, source_mesh):
             attr.data.foreach_set("value", vc)
             vc = None
     if vc is not None or res.weights is not None:
-        _write_with_bmesh(me, vc, res.weights, src.group_count)
+        write_with_bmesh(me, vc, res.weights, src.group_count)
 
     # Hidden (Edit mode's Hide): a face as its input face; a vertex or edge when every face
     # around it is hidden (loose ones as they were), so no shown face has hidden corners.
@@ -643,15 +609,7 @@ def _fill(me, src, res, built, base, source_mesh):
         me.vertices.foreach_set("hide", vhide)
         me.edges.foreach_set("hide", ehide)
 
-    if hasattr(source_mesh, "use_auto_smooth"):  # Blender < 4.1
-        me.use_auto_smooth = source_mesh.use_auto_smooth
-        me.auto_smooth_angle = source_mesh.auto_smooth_angle
-
-    if me.validate(verbose=False):
-        raise ConversionError(
-            "Blender found the cut mesh invalid; the object was left as it was "
-            "(please report this as a katachi bug)"
-        )
+    finish(me, source_mesh, "cut")
     if src.shape_keys or src.group_names:
         _write_object_data(me, src, res)
 
@@ -695,33 +653,6 @@ def _hidden(me, src, built, edge_origin, nv, ne):
         elif edge_origin[e] >= 0:
             ehide[e] = bool(src.edge_hide[edge_origin[e]])
     return vhide, ehide
-
-
-def _write_with_bmesh(me, creases, weights, groups):
-    """Vertex creases (Blender 3.x, which has no Python call that adds their layer) and
-    vertex group weights (a mesh without an object has no other way to get them)."""
-    import bmesh
-
-    bm = bmesh.new()
-    try:
-        bm.from_mesh(me)
-        bm.verts.ensure_lookup_table()
-        if creases is not None:
-            layer = bm.verts.layers.crease.verify()
-            for v, c in zip(bm.verts, creases):
-                v[layer] = c
-        if weights is not None:
-            layer = bm.verts.layers.deform.verify()
-            for i, v in enumerate(bm.verts):
-                row = weights[i * groups:(i + 1) * groups]
-                if any(row):
-                    d = v[layer]
-                    for g, w in enumerate(row):
-                        if w > 0.0:
-                            d[g] = w
-        bm.to_mesh(me)
-    finally:
-        bm.free()
 
 
 def _write_object_data(me, src, res):

@@ -15,6 +15,8 @@ message.
   through the 3D Viewport or a camera; needs no window, so scripts and tests use it.
 """
 
+import contextlib
+
 import bmesh
 import bpy
 from bpy.props import (
@@ -54,29 +56,12 @@ class KATACHI_OT_subdivide(SubdivideProperties, bpy.types.Operator):
     def execute(self, context):
         edit = context.mode == "EDIT_MESH"
         objects = list(context.objects_in_mode if edit else context.selected_objects)
-        targets = [o for o in objects if o.type == "MESH"]
-        skipped = [o for o in objects if o.type != "MESH"]
-        if not targets:
-            names = ", ".join(f"{o.name} ({o.type.lower()})" for o in skipped) or "nothing"
-            self.report({"ERROR"}, f"katachi: no mesh object is selected (selected: {names})")
+        found = _mesh_groups(self, objects, "no mesh object is selected")
+        if found is None:
             return {"CANCELLED"}
-        for o in targets:
-            if o.library is not None or o.data.library is not None:
-                self.report(
-                    {"ERROR"},
-                    f"katachi: {o.name}: its mesh is linked from a library and cannot be changed",
-                )
-                return {"CANCELLED"}
-
-        # Objects sharing one mesh are subdivided once.
-        groups = {}
-        for o in targets:
-            groups.setdefault(o.data.as_pointer(), (o.data, []))[1].append(o)
-
-        try:
-            lib = ffi.load()
-        except ffi.KatachiError as e:
-            self.report({"ERROR"}, f"katachi: {e}")
+        groups, targets, skipped = found
+        lib = _load(self)
+        if lib is None:
             return {"CANCELLED"}
 
         wm = context.window_manager
@@ -93,25 +78,17 @@ class KATACHI_OT_subdivide(SubdivideProperties, bpy.types.Operator):
                 def progress(fraction, base=100 * n):
                     wm.progress_update(base + int(100 * fraction))
 
-                # In Edit mode the edits are flushed to the mesh and read from a copy (Blender
-                # hides a mesh's UV data while it is being edited).
-                source = mesh
-                if edit:
-                    obj.update_from_editmode()
-                    source = mesh.copy()
-                try:
-                    data = convert.InputMesh(source)
-                    options = self.katachi_options(lib)
-                    result = convert.subdivide(
-                        lib, data, options, UV_VALUES[self.uv_smooth], progress
-                    )
-                    created[key] = convert.to_blender(result, source, mesh.name)
-                except (ffi.KatachiError, convert.ConversionError) as e:
-                    self.report({"ERROR"}, f"katachi: {where}: {e}")
-                    return {"CANCELLED"}
-                finally:
-                    if source is not mesh:
-                        bpy.data.meshes.remove(source)
+                with _readable(mesh, obj, edit) as source:
+                    try:
+                        data = convert.InputMesh(source)
+                        options = self.katachi_options(lib)
+                        result = convert.subdivide(
+                            lib, data, options, UV_VALUES[self.uv_smooth], progress
+                        )
+                        created[key] = convert.to_blender(result, source, mesh.name)
+                    except (ffi.KatachiError, convert.ConversionError) as e:
+                        self.report({"ERROR"}, f"katachi: {where}: {e}")
+                        return {"CANCELLED"}
                 faces_before += data.face_count
                 faces_after += len(created[key].polygons)
                 if data.loose_edge_count:
@@ -133,34 +110,91 @@ class KATACHI_OT_subdivide(SubdivideProperties, bpy.types.Operator):
 
         # Every result is built: now, and only now, the objects change.
         for key, (mesh, objs) in groups.items():
-            new = created[key]
-            if edit:
-                bm = bmesh.from_edit_mesh(mesh)
-                bm.clear()
-                bm.from_mesh(new)
-                bmesh.update_edit_mesh(mesh)
-                bpy.data.meshes.remove(new)
-                continue
-            for o in objs:
-                o.data = new
-            if mesh.users == 0:
-                name = mesh.name
-                bpy.data.meshes.remove(mesh)
-                new.name = name
+            _replace_mesh(mesh, objs, created[key], edit)
 
         for w in warnings:
             self.report({"WARNING"}, f"katachi: {w}")
-        if skipped:
-            self.report(
-                {"WARNING"},
-                "katachi: skipped objects that are not meshes: "
-                + ", ".join(o.name for o in skipped),
-            )
+        _report_skipped(self, skipped)
         self.report(
             {"INFO"},
             f"katachi: subdivided {len(targets)} object(s), {faces_before} -> {faces_after} faces",
         )
         return {"FINISHED"}
+
+
+def _mesh_groups(op, objects, none_message):
+    """The mesh objects among ``objects``, grouped by mesh (objects sharing one mesh are
+    changed once): ``(groups, targets, skipped)`` with ``groups`` {mesh pointer: (mesh,
+    objects)}, or None after reporting why nothing can be changed (``none_message``: no
+    mesh object among them)."""
+    targets = [o for o in objects if o.type == "MESH"]
+    skipped = [o for o in objects if o.type != "MESH"]
+    if not targets:
+        names = ", ".join(f"{o.name} ({o.type.lower()})" for o in skipped) or "nothing"
+        op.report({"ERROR"}, f"katachi: {none_message} (selected: {names})")
+        return None
+    for o in targets:
+        if o.library is not None or o.data.library is not None:
+            op.report(
+                {"ERROR"},
+                f"katachi: {o.name}: its mesh is linked from a library and cannot be changed",
+            )
+            return None
+    groups = {}
+    for o in targets:
+        groups.setdefault(o.data.as_pointer(), (o.data, []))[1].append(o)
+    return groups, targets, skipped
+
+
+def _load(op):
+    """The katachi library, or None after reporting why it cannot be loaded."""
+    try:
+        return ffi.load()
+    except ffi.KatachiError as e:
+        op.report({"ERROR"}, f"katachi: {e}")
+        return None
+
+
+@contextlib.contextmanager
+def _readable(mesh, obj, edit):
+    """``mesh`` to read from. In Edit mode the edits are flushed to the mesh and read from a
+    copy (Blender hides a mesh's UV data while it is being edited), removed afterwards."""
+    if not edit:
+        yield mesh
+        return
+    obj.update_from_editmode()
+    source = mesh.copy()
+    try:
+        yield source
+    finally:
+        bpy.data.meshes.remove(source)
+
+
+def _replace_mesh(mesh, objs, new, edit):
+    """Puts the built mesh ``new`` in the place of ``mesh``: its content into the edited mesh
+    in Edit mode (``new`` is removed), else as the mesh of ``objs`` (taking the name of
+    ``mesh`` when nothing else uses that)."""
+    if edit:
+        bm = bmesh.from_edit_mesh(mesh)
+        bm.clear()
+        bm.from_mesh(new)
+        bmesh.update_edit_mesh(mesh)
+        bpy.data.meshes.remove(new)
+        return
+    for o in objs:
+        o.data = new
+    if mesh.users == 0:
+        name = mesh.name
+        bpy.data.meshes.remove(mesh)
+        new.name = name
+
+
+def _report_skipped(op, skipped):
+    if skipped:
+        op.report(
+            {"WARNING"},
+            "katachi: skipped objects that are not meshes: " + ", ".join(o.name for o in skipped),
+        )
 
 
 def _cut_targets(op, context):
@@ -178,22 +212,10 @@ def _cut_targets(op, context):
             objects.insert(0, active)
         if not objects and active is not None:
             objects = [active]
-    targets = [o for o in objects if o.type == "MESH"]
-    skipped = [o for o in objects if o.type != "MESH"]
-    if not targets:
-        names = ", ".join(f"{o.name} ({o.type.lower()})" for o in skipped) or "nothing"
-        op.report({"ERROR"}, f"katachi: no mesh object to cut (selected: {names})")
+    found = _mesh_groups(op, objects, "no mesh object to cut")
+    if found is None:
         return None
-    for o in targets:
-        if o.library is not None or o.data.library is not None:
-            op.report(
-                {"ERROR"},
-                f"katachi: {o.name}: its mesh is linked from a library and cannot be changed",
-            )
-            return None
-    groups = {}
-    for o in targets:
-        groups.setdefault(o.data.as_pointer(), (o.data, []))[1].append(o)
+    groups, _, skipped = found
     return edit, groups, skipped
 
 
@@ -204,10 +226,8 @@ def run_cut(op, context, pixels, view):
     if found is None:
         return {"CANCELLED"}
     edit, groups, skipped = found
-    try:
-        lib = ffi.load()
-    except ffi.KatachiError as e:
-        op.report({"ERROR"}, f"katachi: {e}")
+    lib = _load(op)
+    if lib is None:
         return {"CANCELLED"}
     options = op.cut_options(lib)
 
@@ -217,27 +237,21 @@ def run_cut(op, context, pixels, view):
     try:
         for key, (mesh, objs) in groups.items():
             obj = objs[0]
-            # In Edit mode the edits are flushed to the mesh and read from a copy (Blender
-            # hides a mesh's UV data while it is being edited).
-            source = mesh
-            if edit:
-                obj.update_from_editmode()
-                source = mesh.copy()
-            try:
-                src = cutting.CutSource(source, obj.vertex_groups)
-                view_proj, viewport = view.for_object(obj.matrix_world)
-                res = cutting.cut(lib, src, pixels, view_proj, viewport, options)
-                if res.info.path_count == 0:
-                    nothing.append((obj, res))
-                    continue
-                new, kept = cutting.to_blender(src, res, source, mesh.name, op.keep_polygons)
-                created[key] = (new, res, obj, src.face_count, kept)
-            except (ffi.KatachiError, convert.ConversionError) as e:
-                op.report({"ERROR"}, f"katachi: {obj.name}: {e}")
-                return {"CANCELLED"}
-            finally:
-                if source is not mesh:
-                    bpy.data.meshes.remove(source)
+            with _readable(mesh, obj, edit) as source:
+                try:
+                    src = cutting.CutSource(source, obj.vertex_groups)
+                    view_proj, viewport = view.for_object(obj.matrix_world)
+                    res = cutting.cut(lib, src, pixels, view_proj, viewport, options)
+                    if res.info.path_count == 0:
+                        nothing.append((obj, res))
+                        continue
+                    new, kept = cutting.to_blender(
+                        src, res, source, mesh.name, op.keep_polygons
+                    )
+                    created[key] = (new, res, obj, src.face_count, kept)
+                except (ffi.KatachiError, convert.ConversionError) as e:
+                    op.report({"ERROR"}, f"katachi: {obj.name}: {e}")
+                    return {"CANCELLED"}
         done = True
     finally:
         if not done:  # an error: the results built so far are thrown away
@@ -255,20 +269,7 @@ def run_cut(op, context, pixels, view):
 
     # Every result is built: now, and only now, the objects change.
     for key, (new, res, obj, before, kept) in created.items():
-        mesh, objs = groups[key]
-        if edit:
-            bm = bmesh.from_edit_mesh(mesh)
-            bm.clear()
-            bm.from_mesh(new)
-            bmesh.update_edit_mesh(mesh)
-            bpy.data.meshes.remove(new)
-        else:
-            for o in objs:
-                o.data = new
-            if mesh.users == 0:
-                name = mesh.name
-                bpy.data.meshes.remove(mesh)
-                new.name = name
+        _replace_mesh(*groups[key], new, edit)
     if edit:
         # The cut's edges are selected: show them when only faces are being selected.
         ts = context.tool_settings
@@ -283,11 +284,7 @@ def run_cut(op, context, pixels, view):
             f"katachi: {obj.name}: {before} -> {after} faces; "
             f"{cutting.describe(res, obj.matrix_world)}",
         )
-    if skipped:
-        op.report(
-            {"WARNING"},
-            "katachi: skipped objects that are not meshes: " + ", ".join(o.name for o in skipped),
-        )
+    _report_skipped(op, skipped)
     return {"FINISHED"}
 
 

@@ -180,6 +180,35 @@ static bool contains(const std::string &hay, const std::string &needle) {
     return hay.find(needle) != std::string::npos;
 }
 
+/// A filter run that must fail, into a new layer and in place: `fill_layer` makes the input
+/// layer, `set` sets the parameters (after newLayer). Checks that the filter fails with
+/// katachi's message naming `message`, that the message is in the log, and that the layer
+/// is unchanged with no layer added; `what` starts each check's name, `in_log` and
+/// `unchanged` end the last two.
+static void check_refused(Harness &h, const std::string &what,
+                          const std::function<void(MeshModel &)> &fill_layer,
+                          const std::function<void(RichParameterList &)> &set,
+                          const char *message, const char *in_log, const char *unchanged) {
+    for (bool new_layer : {false, true}) {
+        MeshDocument md;
+        MeshModel *m = md.addNewMesh("", "input");
+        fill_layer(*m);
+        const Snapshot before = snapshot(*m);
+        RichParameterList par = h.params(md);
+        par.setValue("newLayer", BoolValue(new_layer));
+        set(par);
+        h.log.Clear();
+        const bool ok = h.apply(md, par);
+        const std::string msg = h.plugin->errorMsg().toStdString();
+        const std::string where = what + (new_layer ? ", new layer" : ", in place");
+        check(!ok, where + ": filter fails");
+        check(msg.rfind("katachi", 0) == 0 && contains(msg, message),
+              where + ": errorMessage names the problem (" + msg + ")");
+        check(contains(h.logText(), msg), where + in_log);
+        check(md.size() == 1 && snapshot(*m) == before, where + unchanged);
+    }
+}
+
 static void test_faux_polygons() {
     // A quad as two triangles sharing the faux edge 2-0.
     FauxTriangles quad{{0, 1, 2, 0, 2, 3}, {1 << 2, 1 << 0}};
@@ -294,26 +323,10 @@ static void test_filter(Harness &h) {
         {"NaN coordinate", fill_nan, [](RichParameterList &) {}, "vertex 3"},
         {"empty layer", [](MeshModel &) {}, [](RichParameterList &) {}, "no faces"},
     };
-    for (const Bad &b : bad) {
-        for (bool new_layer : {false, true}) {
-            MeshDocument md;
-            MeshModel *m = md.addNewMesh("", "input");
-            b.fill(*m);
-            const Snapshot before = snapshot(*m);
-            RichParameterList par = h.params(md);
-            par.setValue("newLayer", BoolValue(new_layer));
-            b.set(par);
-            h.log.Clear();
-            const bool ok = h.apply(md, par);
-            const std::string msg = h.plugin->errorMsg().toStdString();
-            const std::string where = std::string(b.what) + (new_layer ? ", new layer" : ", in place");
-            check(!ok, where + ": filter fails");
-            check(msg.rfind("katachi", 0) == 0 && contains(msg, b.message),
-                  where + ": errorMessage names the problem (" + msg + ")");
-            check(contains(h.logText(), msg), where + ": the message is in the log (meshlabserver prints it)");
-            check(md.size() == 1 && snapshot(*m) == before, where + ": the layer is unchanged, no layer added");
-        }
-    }
+    for (const Bad &b : bad)
+        check_refused(h, b.what, b.fill, b.set, b.message,
+                      ": the message is in the log (meshlabserver prints it)",
+                      ": the layer is unchanged, no layer added");
 }
 
 // ---------------------------------------------------------------------------------------
@@ -336,16 +349,7 @@ static void fill_grid(MeshModel &m, int n, float z = 0.f) {
             faux.push_back(1 << 2);
             faux.push_back(1 << 0);
         }
-    auto vi = vcg::tri::Allocator<CMeshO>::AddVertices(m.cm, p.size() / 3);
-    for (size_t i = 0; i < p.size() / 3; ++i, ++vi)
-        vi->P() = Point3m(p[3 * i], p[3 * i + 1], p[3 * i + 2]);
-    auto fi = vcg::tri::Allocator<CMeshO>::AddFaces(m.cm, t.size() / 3);
-    for (size_t f = 0; f < t.size() / 3; ++f, ++fi)
-        for (int k = 0; k < 3; ++k) {
-            fi->V(k) = &m.cm.vert[size_t(t[3 * f + k])];
-            if (faux[f] & (1 << k)) fi->SetF(k); else fi->ClearF(k);
-        }
-    m.UpdateBoxAndNormals();
+    fill(m, p, t, faux);
 }
 
 /// Per-element data on a layer, all functions of the position or the face index, so that
@@ -974,30 +978,16 @@ static void test_cut(Harness &h) {
          "is non-manifold"},
         {"empty layer", wave_text, nothing, [](MeshModel &) {}, "no faces"},
     };
-    for (const Bad &b : bad) {
-        for (bool new_layer : {false, true}) {
-            MeshDocument md;
-            MeshModel *m = md.addNewMesh("", "input");
-            b.fill(*m);
-            const Snapshot before = snapshot(*m);
-            RichParameterList par = h.params(md);
-            par.setValue("shot", ShotfValue(shot));
-            par.setValue("stroke", StringValue(QString::fromStdString(b.stroke)));
-            par.setValue("newLayer", BoolValue(new_layer));
-            b.set(par);
-            h.log.Clear();
-            const bool ok = h.apply(md, par);
-            const std::string msg = h.plugin->errorMsg().toStdString();
-            const std::string where =
-                std::string("cut, ") + b.what + (new_layer ? ", new layer" : ", in place");
-            check(!ok, where + ": filter fails");
-            check(msg.rfind("katachi", 0) == 0 && contains(msg, b.message),
-                  where + ": errorMessage names the problem (" + msg + ")");
-            check(contains(h.logText(), msg), where + ": the message is in the log");
-            check(md.size() == 1 && snapshot(*m) == before,
-                  where + ": the layer is bit-identical, no layer added");
-        }
-    }
+    for (const Bad &b : bad)
+        check_refused(
+            h, std::string("cut, ") + b.what, b.fill,
+            [&](RichParameterList &p) {
+                p.setValue("shot", ShotfValue(shot));
+                p.setValue("stroke", StringValue(QString::fromStdString(b.stroke)));
+                b.set(p);
+            },
+            b.message, ": the message is in the log",
+            ": the layer is bit-identical, no layer added");
 }
 
 int main(int argc, char **argv) {

@@ -23,38 +23,38 @@ done
 cp "$(command -v meshlab)" "$prefix/bin/meshlab"
 mkdir -p "$root/docs/images"
 
-xvfb-run -a -s "-screen 0 1280x900x24" sh -c '
-    "$1/bin/meshlab" "$2" >/dev/null 2>&1 &
-    gui=$!
-    sleep 10
-    win=$(xdotool search --name MeshLab | tail -1)
-    xdotool windowsize "$win" 1280 860 windowmove "$win" 0 0
-    sleep 2
-    xdotool mousemove 120 10 click 1      # Filters
-    sleep 2
-    xdotool mousemove 275 161 click 1     # Remeshing, Simplification and Reconstruction
-    sleep 2
+# Opens the model $1 in MeshLab under Xvfb, then Filters > Remeshing, Simplification and
+# Reconstruction, runs the xdotool/import steps $2 (a shell script; "$out" is docs/images)
+# and closes MeshLab.
+in_meshlab() {
+    xvfb-run -a -s "-screen 0 1280x900x24" sh -c '
+        "$1/bin/meshlab" "$2" >/dev/null 2>&1 &
+        gui=$!
+        sleep 10
+        win=$(xdotool search --name MeshLab | tail -1)
+        xdotool windowsize "$win" 1280 860 windowmove "$win" 0 0
+        sleep 2
+        xdotool mousemove 120 10 click 1      # Filters
+        sleep 2
+        xdotool mousemove 275 161 click 1     # Remeshing, Simplification and Reconstruction
+        sleep 2
+        out=$3
+        eval "$4"
+        kill $gui
+    ' sh "$prefix" "$1" "$root/docs/images" "$2"
+}
+
+in_meshlab "$model" '
     xdotool mousemove 935 137 click 1     # katachi: Solid-aware subdivision
     sleep 3
-    import -window root -crop 1280x860+0+0 "$3/meshlab_subdivide.png"
+    import -window root -crop 1280x860+0+0 "$out/meshlab_subdivide.png"
     xdotool mousemove 336 460 click 1     # Apply
     sleep 5
-    import -window root -crop 1280x860+0+0 "$3/meshlab_subdivide_result.png"
-    kill $gui
-' sh "$prefix" "$model" "$root/docs/images"
+    import -window root -crop 1280x860+0+0 "$out/meshlab_subdivide_result.png"
+'
 echo "wrote $root/docs/images/meshlab_subdivide.png and meshlab_subdivide_result.png"
 
-xvfb-run -a -s "-screen 0 1280x900x24" sh -c '
-    "$1/bin/meshlab" "$2" >/dev/null 2>&1 &
-    gui=$!
-    sleep 10
-    win=$(xdotool search --name MeshLab | tail -1)
-    xdotool windowsize "$win" 1280 860 windowmove "$win" 0 0
-    sleep 2
-    xdotool mousemove 120 10 click 1      # Filters
-    sleep 2
-    xdotool mousemove 275 161 click 1     # Remeshing, Simplification and Reconstruction
-    sleep 2
+in_meshlab "$root/../shared/data/models/fandisk.off" '
     xdotool mousemove 905 112 click 1     # katachi: Cut by polyline
     sleep 3
     xdotool mousemove 280 360 click 1     # Stroke (pixels)
@@ -62,10 +62,9 @@ xvfb-run -a -s "-screen 0 1280x900x24" sh -c '
     sleep 1
     xdotool mousemove 340 520 click 1     # Apply (the view: the 3D view, by default)
     sleep 5
-    import -window root -crop 1280x860+0+0 "$3/meshlab_cut.png"
+    import -window root -crop 1280x860+0+0 "$out/meshlab_cut.png"
     xdotool mousemove 118 520 click 1     # Close
     sleep 2
-    import -window root -crop 860x760+0+70 "$3/meshlab_cut_result.png"
-    kill $gui
-' sh "$prefix" "$root/../shared/data/models/fandisk.off" "$root/docs/images"
+    import -window root -crop 860x760+0+70 "$out/meshlab_cut_result.png"
+'
 echo "wrote $root/docs/images/meshlab_cut.png and meshlab_cut_result.png"

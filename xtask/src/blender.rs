@@ -133,10 +133,7 @@ fn run_tests(
     filter: Option<&str>,
     command: impl Fn(&Path, &[std::ffi::OsString]) -> Command,
 ) -> Result<u64, String> {
-    let home = target_dir().join("blender-test").join(label);
-    if home.exists() {
-        std::fs::remove_dir_all(&home).map_err(|e| format!("{}: {e}", home.display()))?;
-    }
+    let home = fresh_home(label)?;
     let work = home.join("work");
     std::fs::create_dir_all(&work).map_err(|e| format!("{}: {e}", work.display()))?;
     let mut rest: Vec<std::ffi::OsString> = vec![
@@ -190,14 +187,37 @@ fn summarize(label: &str, cmd: &mut Command, none_ok: bool) -> Result<u64, Strin
 /// The Cut by Stroke tool's modal operator in Blender 3.4's real window under Xvfb, fed
 /// simulated events (`tests/blender/modal_test.py`); returns the number of passed cases.
 fn run_window_tests(zip: &Path, filter: Option<&str>) -> Result<u64, String> {
-    let home = target_dir().join("blender-test").join("3.4-window");
+    let home = fresh_home("3.4-window")?;
+    let mut cmd = blender_window(
+        &home,
+        "tests/blender/modal_test.py",
+        zip,
+        &home.join("work"),
+    )?;
+    if let Some(k) = filter {
+        cmd.args(["-k", k]);
+    }
+    cmd.current_dir(root());
+    summarize("3.4 (window)", &mut cmd, filter.is_some())
+}
+
+/// `<target>/blender-test/<label>/`, emptied (made anew).
+fn fresh_home(label: &str) -> Result<PathBuf, String> {
+    let home = target_dir().join("blender-test").join(label);
     if home.exists() {
         std::fs::remove_dir_all(&home).map_err(|e| format!("{}: {e}", home.display()))?;
     }
     std::fs::create_dir_all(&home).map_err(|e| format!("{}: {e}", home.display()))?;
-    // Blender shows its splash screen (which would take the events) unless it opens a file.
+    Ok(home)
+}
+
+/// Blender 3.4 in a 1280 × 800 window under Xvfb, accepting simulated events, running
+/// `script` (relative to the repository) with `-- --zip ZIP --out OUT`, its user
+/// directories in `home`. Blender shows its splash screen (which would take the events)
+/// unless it opens a file, so the factory startup scene is saved into `home` first.
+fn blender_window(home: &Path, script: &str, zip: &Path, out: &Path) -> Result<Command, String> {
     let scene = home.join("scene.blend");
-    save_startup_scene(&scene, &home)?;
+    save_startup_scene(&scene, home)?;
     let mut cmd = Command::new("xvfb-run");
     cmd.args([
         "-a",
@@ -216,18 +236,14 @@ fn run_window_tests(zip: &Path, filter: Option<&str>) -> Result<u64, String> {
     ])
     .arg(&scene)
     .arg("--python")
-    .arg(root().join("tests/blender/modal_test.py"))
+    .arg(root().join(script))
     .arg("--")
     .arg("--zip")
     .arg(zip)
     .arg("--out")
-    .arg(home.join("work"));
-    if let Some(k) = filter {
-        cmd.args(["-k", k]);
-    }
-    cmd.current_dir(root());
-    isolate(&mut cmd, &home);
-    summarize("3.4 (window)", &mut cmd, filter.is_some())
+    .arg(out);
+    isolate(&mut cmd, home);
+    Ok(cmd)
 }
 
 /// Saves Blender's factory startup scene to `scene`, with the user directories in `home`.
@@ -339,44 +355,15 @@ pub fn screenshot(args: &[&str]) -> Result<(), String> {
         }
     }
     let zip = crate::addon::build()?;
-    let home = target_dir().join("blender-test").join("screenshot");
-    if home.exists() {
-        std::fs::remove_dir_all(&home).map_err(|e| format!("{}: {e}", home.display()))?;
-    }
-    std::fs::create_dir_all(&home).map_err(|e| format!("{}: {e}", home.display()))?;
+    let home = fresh_home("screenshot")?;
     let png = root().join("docs/images/blender_subdivide.png");
     let tmp = home.join("blender_subdivide.png");
-    // Blender shows its splash screen unless it opens a file: save the startup scene first.
-    let scene = home.join("scene.blend");
-    save_startup_scene(&scene, &home)?;
-    let mut cmd = Command::new("xvfb-run");
-    cmd.args([
-        "-a",
-        "-s",
-        "-screen 0 1280x800x24",
-        "blender",
-        "--factory-startup",
-    ])
-    .args([
-        "--window-geometry",
-        "0",
-        "0",
-        "1280",
-        "800",
-        "--python-exit-code",
-        "1",
-        "--enable-event-simulate",
-    ])
-    .arg(&scene)
-    .arg("--python")
-    .arg(root().join("tests/blender/screenshot.py"))
-    .arg("--")
-    .arg("--zip")
-    .arg(&zip)
-    .arg("--out")
-    .arg(&tmp);
-    isolate(&mut cmd, &home);
-    run_cmd(&mut cmd)?;
+    run_cmd(&mut blender_window(
+        &home,
+        "tests/blender/screenshot.py",
+        &zip,
+        &tmp,
+    )?)?;
     if !tmp.is_file() {
         return Err(format!("Blender wrote no screenshot to {}", tmp.display()));
     }

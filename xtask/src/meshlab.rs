@@ -35,7 +35,7 @@
 use std::collections::HashMap;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::{Command, ExitStatus, Output};
 
 use crate::ctest::target_dir;
 use crate::util::{describe, have, is_root, root, run as run_cmd, run_in};
@@ -811,6 +811,47 @@ fn meshlabserver_cmd(server: &Path, input: &Path, output: &Path, script: &Path) 
     c
 }
 
+/// Writes the filter script `script` to `<work>/<name>.mlx` and runs meshlabserver with it
+/// on `input`, writing `<work>/<name>_meshlab.off`; returns that path, meshlabserver's exit
+/// status and its output (stdout, then stderr).
+fn run_script(
+    server: &Path,
+    work: &Path,
+    name: &str,
+    input: &Path,
+    script: &str,
+) -> Result<(PathBuf, ExitStatus, String), String> {
+    let mlx = work.join(format!("{name}.mlx"));
+    std::fs::write(&mlx, script).map_err(|e| format!("{}: {e}", mlx.display()))?;
+    let output = work.join(format!("{name}_meshlab.off"));
+    let out = capture(&mut meshlabserver_cmd(server, input, &output, &mlx))?;
+    let log = format!(
+        "{}{}",
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    Ok((output, out.status, log))
+}
+
+/// [`run_script`] for a filter that must succeed: an error when meshlabserver fails or
+/// writes no mesh. Returns the mesh's path and meshlabserver's output.
+fn run_script_ok(
+    server: &Path,
+    work: &Path,
+    name: &str,
+    input: &Path,
+    script: &str,
+) -> Result<(PathBuf, String), String> {
+    let (ml_out, status, log) = run_script(server, work, name, input, script)?;
+    if !status.success() || !ml_out.is_file() {
+        return Err(format!(
+            "{name}: meshlabserver failed ({status}) or wrote no {}; its output:\n{log}",
+            ml_out.display()
+        ));
+    }
+    Ok((ml_out, log))
+}
+
 /// One comparison: meshlabserver with the plugin vs. `katachi subdivide`. Returns checks made.
 fn run_case(
     server: &Path,
@@ -820,23 +861,8 @@ fn run_case(
     input: &Path,
     opts: &Opts,
 ) -> Result<usize, String> {
-    let script = work.join(format!("{name}.mlx"));
-    std::fs::write(&script, opts.mlx()).map_err(|e| format!("{}: {e}", script.display()))?;
-    let ml_out = work.join(format!("{name}_meshlab.off"));
+    let (ml_out, log) = run_script_ok(server, work, name, input, &opts.mlx())?;
     let cli_out = work.join(format!("{name}_cli.off"));
-    let out = capture(&mut meshlabserver_cmd(server, input, &ml_out, &script))?;
-    let log = format!(
-        "{}{}",
-        String::from_utf8_lossy(&out.stdout),
-        String::from_utf8_lossy(&out.stderr)
-    );
-    if !out.status.success() || !ml_out.is_file() {
-        return Err(format!(
-            "{name}: meshlabserver failed ({}) or wrote no {}; its output:\n{log}",
-            out.status,
-            ml_out.display()
-        ));
-    }
     // The filter ran (and not some other one): it logs its summary line.
     let ran = format!("katachi: {} levels:", opts.levels);
     if !log.contains(&ran) {
@@ -871,27 +897,19 @@ fn run_bad_case(
     use std::os::unix::process::ExitStatusExt;
     let input = work.join(format!("{name}.off"));
     std::fs::write(&input, text).map_err(|e| format!("{}: {e}", input.display()))?;
-    let script = work.join(format!("{name}.mlx"));
-    std::fs::write(&script, script_text).map_err(|e| format!("{}: {e}", script.display()))?;
-    let output = work.join(format!("{name}_meshlab.off"));
-    let out = capture(&mut meshlabserver_cmd(server, &input, &output, &script))?;
-    let log = format!(
-        "{}{}",
-        String::from_utf8_lossy(&out.stdout),
-        String::from_utf8_lossy(&out.stderr)
-    );
+    let (output, status, log) = run_script(server, work, name, &input, script_text)?;
     // xvfb-run passes the server's exit code on; a crash would be 128 + signal or a signal.
-    let code = out.status.code();
-    let crashed = out.status.signal().is_some()
+    let code = status.code();
+    let crashed = status.signal().is_some()
         || code.is_some_and(|c| (129..=159).contains(&c))
         || log.contains("Segmentation fault")
         || log.contains("Aborted");
     let mut problems = Vec::new();
-    if out.status.success() {
+    if status.success() {
         problems.push("meshlabserver exited 0".to_owned());
     }
     if crashed {
-        problems.push(format!("meshlabserver crashed ({})", out.status));
+        problems.push(format!("meshlabserver crashed ({status})"));
     }
     if !log.contains(message) {
         problems.push(format!("the output lacks katachi's message `{message}`"));
@@ -904,8 +922,7 @@ fn run_bad_case(
     }
     if problems.is_empty() {
         eprintln!(
-            "xtask: meshlab-plugin: {name}: meshlabserver refused it ({}) with katachi's message",
-            out.status
+            "xtask: meshlab-plugin: {name}: meshlabserver refused it ({status}) with katachi's message"
         );
         Ok(5)
     } else {
@@ -1151,28 +1168,8 @@ fn run_cut_case(
     case: &CutCase,
 ) -> Result<usize, String> {
     let name = case.name;
-    let script = work.join(format!("{name}.mlx"));
-    std::fs::write(&script, case.mlx()).map_err(|e| format!("{}: {e}", script.display()))?;
-    let ml_out = work.join(format!("{name}_meshlab.off"));
+    let (ml_out, log) = run_script_ok(server, work, name, &case.input, &case.mlx())?;
     let cli_out = work.join(format!("{name}_cli.off"));
-    let out = capture(&mut meshlabserver_cmd(
-        server,
-        &case.input,
-        &ml_out,
-        &script,
-    ))?;
-    let log = format!(
-        "{}{}",
-        String::from_utf8_lossy(&out.stdout),
-        String::from_utf8_lossy(&out.stderr)
-    );
-    if !out.status.success() || !ml_out.is_file() {
-        return Err(format!(
-            "{name}: meshlabserver failed ({}) or wrote no {}; its output:\n{log}",
-            out.status,
-            ml_out.display()
-        ));
-    }
     if !log.contains("katachi: cut by polyline (") {
         return Err(format!(
             "{name}: meshlabserver's log lacks the cut's report:\n{log}"

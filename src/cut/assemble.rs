@@ -7,6 +7,7 @@ use glam::DVec3;
 use rayon::prelude::*;
 
 use super::edits::CutEdits;
+use super::interpolate::original;
 use super::triangulate::Triangles;
 use crate::mem;
 use crate::mesh::{FaceId, PolyMesh, VertexId};
@@ -73,11 +74,9 @@ fn carry_attributes(input: &PolyMesh, out: &mut PolyMesh, face_origin: &[FaceId]
             .collect();
     }
     let nv_in = input.vertex_count() as usize;
-    let p = &e.provenance;
     // The input vertex a new vertex copies, if it is an opening copy of one.
     let source = |k: usize| -> Option<usize> {
-        let c = (nv_in + k).checked_sub(p.first_copy as usize)?;
-        let v = p.copy_of[c] as usize;
+        let v = original(e.first_copy, &e.copy_of, (nv_in + k) as u32) as usize;
         (v < nv_in).then_some(v)
     };
     if a.vertex_sharpness.par_iter().any(|&s| s != 0.0) {

@@ -37,7 +37,9 @@ pub struct CutEdits {
     pub split_edges: Vec<(VertexId, VertexId, Vec<VertexId>)>,
     /// What was done.
     pub report: CutReport,
-    pub(crate) provenance: Provenance,
+    /// Opening copies are vertices `first_copy..`; `copy_of[i]` is the vertex copied.
+    pub(crate) first_copy: u32,
+    pub(crate) copy_of: Vec<u32>,
 }
 
 impl CutEdits {
@@ -73,7 +75,7 @@ impl CutEdits {
             mesh: mesh_out,
             face_origin,
             report: self.report.clone(),
-            provenance: self.provenance.clone(),
+            provenance: Provenance::of(self),
         })
     }
 }

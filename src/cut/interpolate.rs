@@ -14,12 +14,14 @@
 use glam::DVec3;
 use rayon::prelude::*;
 
+use super::edits::CutEdits;
 use super::report::CutOutput;
 use super::triangulate;
 use crate::error::{Error, Result};
 use crate::mesh::{PolyMesh, VertexId};
 
-/// What the interpolation needs beyond the output mesh; filled in by `cut_by_stroke`.
+/// What the interpolation needs beyond the output mesh, derived from the edits when they are
+/// applied ([`Provenance::of`]).
 #[derive(Debug, Clone, Default)]
 pub(crate) struct Provenance {
     /// Faces of the triangulated input (the output's first `tri_count` slots).
@@ -33,6 +35,33 @@ pub(crate) struct Provenance {
     /// Opening copies are vertices `first_copy..`; `copy_of[i]` is the vertex copied.
     pub first_copy: u32,
     pub copy_of: Vec<u32>,
+}
+
+impl Provenance {
+    pub fn of(e: &CutEdits) -> Self {
+        Provenance {
+            tri_count: e.input_triangle_count,
+            input_vertices: e.input_vertex_count,
+            appended_from: e.appended_faces.iter().map(|&(_, s)| s.0).collect(),
+            rewritten: e.rewritten_faces.iter().map(|&(s, _)| s.0).collect(),
+            first_copy: e.first_copy,
+            copy_of: e.copy_of.clone(),
+        }
+    }
+
+    /// The vertex an opening copy duplicates (itself otherwise).
+    pub fn original(&self, v: u32) -> u32 {
+        original(self.first_copy, &self.copy_of, v)
+    }
+}
+
+/// The vertex `v` duplicates when opening copies are `first_copy..` with `copy_of[i]` the
+/// vertex copied; `v` itself otherwise.
+pub(crate) fn original(first_copy: u32, copy_of: &[u32], v: u32) -> u32 {
+    match v.checked_sub(first_copy) {
+        Some(i) if (i as usize) < copy_of.len() => copy_of[i as usize],
+        _ => v,
+    }
 }
 
 impl CutOutput {
@@ -148,12 +177,8 @@ impl CutOutput {
     /// vertex gives that vertex (an input vertex or one the cut made), every other vertex
     /// itself. Front ends use it to give copies their original's data.
     pub fn vertex_original(&self) -> Vec<VertexId> {
-        let p = &self.provenance;
         (0..self.mesh.vertex_count())
-            .map(|v| match v.checked_sub(p.first_copy) {
-                Some(i) if (i as usize) < p.copy_of.len() => VertexId(p.copy_of[i as usize]),
-                _ => VertexId(v),
-            })
+            .map(|v| VertexId(self.provenance.original(v)))
             .collect()
     }
 
@@ -245,12 +270,8 @@ impl<'a> Sources<'a> {
         )
     }
 
-    /// The vertex an opening copy duplicates (itself otherwise).
     fn original(&self, v: u32) -> u32 {
-        match v.checked_sub(self.p.first_copy) {
-            Some(i) if (i as usize) < self.p.copy_of.len() => self.p.copy_of[i as usize],
-            _ => v,
-        }
+        self.p.original(v)
     }
 
     /// Barycentric weights of output vertex `v` in the triangle `tri_v` (output positions),

@@ -558,14 +558,6 @@ fn plan<'a>(
         &buckets,
         visible_only,
     );
-    let provenance = interpolate::Provenance {
-        tri_count: tm.face_count(),
-        input_vertices: mesh.vertex_count(),
-        appended_from: appended_faces.iter().map(|&(_, s)| s.0).collect(),
-        rewritten: rewritten_faces.iter().map(|&(s, _)| s.0).collect(),
-        first_copy: nv_in + split_count as u32,
-        copy_of: copies_of.iter().map(|&lv| global[lv as usize]).collect(),
-    };
     let edits = CutEdits {
         input_vertex_count: mesh.vertex_count(),
         input_triangle_count: tm.face_count(),
@@ -574,7 +566,8 @@ fn plan<'a>(
         appended_faces,
         split_edges,
         report,
-        provenance,
+        first_copy: nv_in + split_count as u32,
+        copy_of: copies_of.iter().map(|&lv| global[lv as usize]).collect(),
     };
     drop(sp);
     Ok((edits, tris))

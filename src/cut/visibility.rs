@@ -38,14 +38,20 @@ impl FaceBuckets {
             grid.origin,
             DVec2::new(grid.nx as f64, grid.ny as f64) * grid.cell,
         );
+        // Screen boxes of the projectable faces.
+        let screen_boxes: Vec<Option<(DVec2, DVec2)>> = (0..region.tri.len() as u32)
+            .map(|lf| {
+                region.projectable(lf).then(|| {
+                    let [a, b, c] = region.face_screen(lf);
+                    (a.min(b).min(c), a.max(b).max(c))
+                })
+            })
+            .collect();
         let (mut size, mut n) = (0.0, 0u32);
-        for lf in 0..region.tri.len() as u32 {
-            if region.projectable(lf) {
-                let [a, b, c] = region.face_screen(lf);
-                let e = a.max(b).max(c) - a.min(b).min(c);
-                size += e.x.max(e.y);
-                n += 1;
-            }
+        for &(lo, hi) in screen_boxes.iter().flatten() {
+            let e = hi - lo;
+            size += e.x.max(e.y);
+            n += 1;
         }
         let mean = if n > 0 { size / n as f64 } else { 0.0 };
         let cell = mean
@@ -63,13 +69,12 @@ impl FaceBuckets {
         // Counting sort by cell, faces ascending within a cell: count, prefix-sum, fill.
         let range = |a: DVec2, b: DVec2| cell_range(origin, cell, nx, ny, a, b);
         let pad = DVec2::splat(slack);
-        let boxes: Vec<Option<(i32, i32, i32, i32)>> = (0..region.tri.len() as u32)
-            .map(|lf| {
-                if !region.projectable(lf) || region.sign[lf as usize] == 0.0 {
-                    return None;
-                }
-                let [a, b, c] = region.face_screen(lf);
-                range(a.min(b).min(c) - pad, a.max(b).max(c) + pad)
+        let boxes: Vec<Option<(i32, i32, i32, i32)>> = screen_boxes
+            .iter()
+            .zip(&region.sign)
+            .map(|(b, &sign)| match b {
+                Some((lo, hi)) if sign != 0.0 => range(*lo - pad, *hi + pad),
+                _ => None,
             })
             .collect();
         let mut start = vec![0u32; ncell + 1];

@@ -115,19 +115,6 @@ pub(crate) fn find_occurrences(
                             continue;
                         }
                         let (o1, o2) = (orient(p, q, a), orient(p, q, b));
-                        for (v, x, o) in [(ia, a, o1), (ib, b, o2)] {
-                            if o == 0.0 && on_segment(p, q, x) {
-                                let key = if x == p {
-                                    (k, 0.0)
-                                } else if x == q {
-                                    (k + 1, 0.0)
-                                } else {
-                                    let pq = q - p;
-                                    (k, ((x - p).dot(pq) / pq.length_squared()).clamp(0.0, 1.0))
-                                };
-                                occ.push(mk(key, Elem::V(v), x));
-                            }
-                        }
                         if o1 * o2 < 0.0 {
                             let (o3, o4) = (orient(a, b, p), orient(a, b, q));
                             let edge_t = o1 / (o1 - o2);
@@ -188,7 +175,45 @@ pub(crate) fn find_occurrences(
             occ
         })
         .collect();
-    let mut occ: Vec<Occ> = chunks.into_iter().flatten().collect();
+    // Vertices on the stroke, once per vertex of a cuttable face (the edge loop would find
+    // each from all its edges).
+    let nv = region.verts.len() as u32;
+    let on_stroke: Vec<Vec<Occ>> = (0..nv)
+        .into_par_iter()
+        .chunks(256)
+        .map(|chunk| {
+            let mut occ: Vec<Occ> = Vec::new();
+            let mut near: Vec<u32> = Vec::new();
+            for v in chunk {
+                let faces = region.vertex_faces(v);
+                if !faces.iter().any(|&f| region.cuttable[f as usize]) {
+                    continue;
+                }
+                let x = region.screen(v);
+                near.clear();
+                prepared_segments_near(x, x, &mut near);
+                for &si in near.iter() {
+                    let (j0, j1) = seg_range[si as usize];
+                    for k in j0..j1 {
+                        let (p, q) = (pts[k as usize], pts[k as usize + 1]);
+                        if on_segment(p, q, x) && orient(p, q, x) == 0.0 {
+                            let key = if x == p {
+                                (k, 0.0)
+                            } else if x == q {
+                                (k + 1, 0.0)
+                            } else {
+                                let pq = q - p;
+                                (k, ((x - p).dot(pq) / pq.length_squared()).clamp(0.0, 1.0))
+                            };
+                            occ.push(mk(key, Elem::V(v), x));
+                        }
+                    }
+                }
+            }
+            occ
+        })
+        .collect();
+    let mut occ: Vec<Occ> = chunks.into_iter().chain(on_stroke).flatten().collect();
     // Piece ends strictly inside faces (seed 002 §3.4, Figs. 12-13).
     for &j in piece_ends {
         let s = pts[j as usize];

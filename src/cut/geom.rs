@@ -48,16 +48,18 @@ pub(crate) fn barycentric(a: DVec2, b: DVec2, c: DVec2, p: DVec2) -> [f64; 3] {
     [la, lb, 1.0 - la - lb]
 }
 
-/// The smallest corner angle of triangle abc in 3D, radians (0 for a degenerate one).
-pub(crate) fn min_angle(a: DVec3, b: DVec3, c: DVec3) -> f64 {
-    let ang = |p: DVec3, q: DVec3, r: DVec3| {
+/// The cosine of triangle abc's smallest corner angle in 3D (1 at a degenerate corner). Arc cosine is
+/// monotone, so the smallest angle of several triangles is the arc cosine of their largest
+/// `max_cos`: one `acos` per comparison instead of one per corner.
+pub(crate) fn max_cos(a: DVec3, b: DVec3, c: DVec3) -> f64 {
+    let cos = |p: DVec3, q: DVec3, r: DVec3| {
         let (u, v) = (q - p, r - p);
         let d = u.length() * v.length();
         if d == 0.0 {
-            0.0
+            1.0
         } else {
-            (u.dot(v) / d).clamp(-1.0, 1.0).acos()
+            (u.dot(v) / d).clamp(-1.0, 1.0)
         }
     };
-    ang(a, b, c).min(ang(b, c, a)).min(ang(c, a, b))
+    cos(a, b, c).max(cos(b, c, a)).max(cos(c, a, b))
 }

@@ -16,7 +16,7 @@ use std::collections::BTreeMap;
 use glam::{DVec2, DVec3};
 
 use super::crossings::{elem_depth, Elem, Occ};
-use super::geom::{in_triangle, min_angle, orient};
+use super::geom::{in_triangle, max_cos, orient};
 use super::region::{Region, NONE};
 
 pub(crate) struct Splitter<'r> {
@@ -109,10 +109,10 @@ impl<'r> Splitter<'r> {
     }
 
     /// The current sub-triangles of a face (its triangle when untouched).
-    pub fn face_subs(&self, lf: u32) -> Vec<[u32; 3]> {
+    pub fn face_subs(&self, lf: u32) -> &[[u32; 3]] {
         match &self.subs[lf as usize] {
-            Some(s) => s.clone(),
-            None => vec![self.r.tri[lf as usize]],
+            Some(s) => s,
+            None => std::slice::from_ref(&self.r.tri[lf as usize]),
         }
     }
 
@@ -227,7 +227,7 @@ impl<'r> Splitter<'r> {
     fn nearest_corner(&self, lf: u32, s: DVec2) -> u32 {
         let mut best = (f64::INFINITY, NONE);
         for t in self.face_subs(lf) {
-            for v in t {
+            for &v in t {
                 let d = (self.screen(v) - s).length();
                 if (d, v) < best {
                     best = (d, v);
@@ -262,7 +262,7 @@ impl<'r> Splitter<'r> {
     pub fn ensure_chord(&mut self, lf: u32, u: u32, w: u32, protected: &[(u32, u32)]) -> bool {
         let sign = self.r.sign[lf as usize];
         for _ in 0..32 {
-            let subs = self.face_subs(lf);
+            let subs = self.face_subs(lf).to_vec();
             if subs.iter().any(|t| t.contains(&u) && t.contains(&w)) {
                 return true;
             }
@@ -321,7 +321,7 @@ impl<'r> Splitter<'r> {
                 break;
             }
             done[a] = true;
-            for tri in &subs {
+            for tri in subs {
                 if let Some(r) = tri.iter().position(|&x| x == nodes[a]) {
                     for b in [tri[(r + 1) % 3], tri[(r + 2) % 3]] {
                         let bi = idx(b).expect("a node");
@@ -353,7 +353,7 @@ impl<'r> Splitter<'r> {
         let subs = self.face_subs(lf);
         let t1 = rotated(subs[i], r);
         let (x, y, p) = (t1[0], t1[1], t1[2]);
-        let Some((j, rj)) = find_edge(&subs, y, x) else {
+        let Some((j, rj)) = find_edge(subs, y, x) else {
             return false;
         };
         let q = rotated(subs[j], rj)[2];
@@ -364,8 +364,8 @@ impl<'r> Splitter<'r> {
         }
         if better.is_some() {
             let (px, py, pp, pq) = (self.pos(x), self.pos(y), self.pos(p), self.pos(q));
-            let before = min_angle(px, py, pp).min(min_angle(py, px, pq));
-            let after = min_angle(pp, px, pq).min(min_angle(pq, py, pp));
+            let before = max_cos(px, py, pp).max(max_cos(py, px, pq)).acos();
+            let after = max_cos(pp, px, pq).max(max_cos(pq, py, pp)).acos();
             if after <= before * (1.0 + 1e-9) {
                 return false;
             }

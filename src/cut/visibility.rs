@@ -23,8 +23,35 @@ pub(crate) struct FaceBuckets {
     nx: i32,
     ny: i32,
     start: Vec<u32>,
-    list: Vec<u32>,
+    list: Vec<Entry>,
     eps_world: f64,
+}
+
+/// A face in a bucket with its screen box, rounded outwards to f32: most entries are
+/// rejected by the box, read in line with the bucket instead of from three vertices.
+#[derive(Debug, Clone, Copy, Default)]
+struct Entry {
+    face: u32,
+    lo: [f32; 2],
+    hi: [f32; 2],
+}
+
+fn down(x: f64) -> f32 {
+    let f = x as f32;
+    if f as f64 > x {
+        f.next_down()
+    } else {
+        f
+    }
+}
+
+fn up(x: f64) -> f32 {
+    let f = x as f32;
+    if (f as f64) < x {
+        f.next_up()
+    } else {
+        f
+    }
 }
 
 impl FaceBuckets {
@@ -89,13 +116,19 @@ impl FaceBuckets {
             start[i + 1] += start[i];
         }
         let mut fill = start.clone();
-        let mut list = vec![0u32; start[ncell] as usize];
+        let mut list = vec![Entry::default(); start[ncell] as usize];
         for (lf, b) in boxes.iter().enumerate() {
             if let Some((x0, y0, x1, y1)) = *b {
+                let (lo, hi) = screen_boxes[lf].expect("bucketed faces are projectable");
+                let entry = Entry {
+                    face: lf as u32,
+                    lo: [down(lo.x), down(lo.y)],
+                    hi: [up(hi.x), up(hi.y)],
+                };
                 for cy in y0..=y1 {
                     for cx in x0..=x1 {
                         let c = (cy * nx + cx) as usize;
-                        list[fill[c] as usize] = lf as u32;
+                        list[fill[c] as usize] = entry;
                         fill[c] += 1;
                     }
                 }
@@ -119,6 +152,10 @@ impl FaceBuckets {
 
     /// Candidate faces whose screen box covers the cell of `s` (a superset of those holding `s`).
     pub fn faces_at(&self, s: DVec2) -> impl Iterator<Item = u32> + '_ {
+        self.entries_at(s).iter().map(|e| e.face)
+    }
+
+    fn entries_at(&self, s: DVec2) -> &[Entry] {
         let range = match cell_range(self.origin, self.cell, self.nx, self.ny, s, s) {
             Some((cx, cy, _, _)) => {
                 let c = (cy * self.nx + cx) as usize;
@@ -126,20 +163,24 @@ impl FaceBuckets {
             }
             None => 0..0,
         };
-        self.list[range].iter().copied()
+        &self.list[range]
     }
 
     /// Whether some candidate face lies in front of world point `x` (screen `s`, NDC depth
     /// `z`) by more than the depth tolerance.
     pub fn hidden(&self, r: &Region, s: DVec2, z: f64, x: DVec3) -> bool {
-        for lf in self.faces_at(s) {
-            let [a, b, cc] = r.face_screen(lf);
-            // Outside the face's box is outside the face (exact comparisons); most bucket
+        for e in self.entries_at(s) {
+            // Outside the face's (outward-rounded) box is outside the face; most bucket
             // entries end here, before three orientation tests.
-            let (lo, hi) = (a.min(b).min(cc), a.max(b).max(cc));
-            if s.x < lo.x || s.y < lo.y || s.x > hi.x || s.y > hi.y {
+            if s.x < e.lo[0] as f64
+                || s.y < e.lo[1] as f64
+                || s.x > e.hi[0] as f64
+                || s.y > e.hi[1] as f64
+            {
                 continue;
             }
+            let lf = e.face;
+            let [a, b, cc] = r.face_screen(lf);
             if in_triangle(a, b, cc, r.sign[lf as usize], s).is_none() {
                 continue;
             }

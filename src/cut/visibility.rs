@@ -36,22 +36,22 @@ struct Entry {
     hi: [f32; 2],
 }
 
+/// `x` rounded down to f32 (`f32::next_down` needs Rust 1.86, above the MSRV).
 fn down(x: f64) -> f32 {
     let f = x as f32;
-    if f as f64 > x {
-        f.next_down()
-    } else {
+    if f as f64 <= x {
         f
+    } else if f == 0.0 {
+        -f32::from_bits(1)
+    } else if f > 0.0 {
+        f32::from_bits(f.to_bits() - 1)
+    } else {
+        f32::from_bits(f.to_bits() + 1)
     }
 }
 
 fn up(x: f64) -> f32 {
-    let f = x as f32;
-    if (f as f64) < x {
-        f.next_up()
-    } else {
-        f
-    }
+    -down(-x)
 }
 
 impl FaceBuckets {

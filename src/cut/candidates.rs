@@ -152,9 +152,21 @@ impl CellGrid {
             return BEHIND;
         }
         let inv = 1.0 / w;
-        let cx = (rows.0.dot(h) * inv).max(0.0).min(self.nx as f64 + 1.0) as u32;
-        let cy = (rows.1.dot(h) * inv).max(0.0).min(self.ny as f64 + 1.0) as u32;
-        let near = self.near[(cy * (self.nx as u32 + 2) + cx) as usize];
+        // Clamped to [0, n + 1] (NaN → 0: `f64::max` drops it), so the casts cannot overflow
+        // and the index is inside the (nx + 2) × (ny + 2) table. Unchecked because this is
+        // the whole-mesh pass: saturating casts and the bounds check cost a fifth of it.
+        let clamp = |x: f64, n: i32| x.max(0.0).min(n as f64 + 1.0);
+        // SAFETY: as above, finite values in [0, n + 1].
+        let (cx, cy) = unsafe {
+            (
+                clamp(rows.0.dot(h) * inv, self.nx).to_int_unchecked::<i32>() as u32,
+                clamp(rows.1.dot(h) * inv, self.ny).to_int_unchecked::<i32>() as u32,
+            )
+        };
+        let at = (cy * (self.nx as u32 + 2) + cx) as usize;
+        debug_assert!(at < self.near.len());
+        // SAFETY: as above, in the table.
+        let near = unsafe { *self.near.get_unchecked(at) };
         cx | (cy << 16) | ((near as u32) << 31)
     }
 

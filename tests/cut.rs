@@ -657,6 +657,58 @@ fn a_hidden_sheet_is_not_cut_in_visible_only_mode() {
 }
 
 #[test]
+fn a_hidden_sheet_stays_uncut_when_snapping_moves_the_top_sheet() {
+    // Occluders are found by screen boxes taken before snapping; wavy strokes over a finer
+    // grid move many top vertices, and none of the crossings below may then be seen.
+    let top = tri_grid(12, 12);
+    let mut p = top.positions().to_vec();
+    let nv = p.len() as u32;
+    p.extend(top.positions().iter().map(|q| *q - DVec3::Z));
+    let mut faces: Vec<Vec<u32>> = top
+        .faces()
+        .map(|f| top.face_outer(f).iter().map(|v| v.0).collect())
+        .collect();
+    let n = faces.len();
+    for k in 0..n {
+        let t: Vec<u32> = faces[k].iter().map(|&v| v + nv).collect();
+        faces.push(t);
+    }
+    let two = PolyMesh::from_polygons(p, faces).unwrap();
+    // In perspective, as MeshLab's harness has it: the lower sheet is not exactly under the top one.
+    let v = perspective(DVec3::new(6.0, 6.0, 10.0), DVec3::new(6.0, 6.0, 0.0));
+    let mut moved = 0;
+    for phase in 0..12 {
+        let pts: Vec<(f64, f64)> = (0..40)
+            .map(|i| {
+                let t = i as f64 / 39.0;
+                let y = 300.0 + 100.0 * (t * 9.0 + phase as f64 * 0.37).sin();
+                (150.0 + 500.0 * t, y)
+            })
+            .collect();
+        let vis = cut(&two, &pts, &v, &CutOptions::default());
+        check_valid(&two, &vis);
+        moved += vis.report.moved.len();
+        let lower_split = pieces_per_face(&vis)
+            .iter()
+            .any(|(f, &c)| f.0 as usize >= n && c > 1);
+        assert!(
+            !lower_split,
+            "phase {phase}: visible-only split a hidden face"
+        );
+        for path in &vis.report.paths {
+            assert!(
+                path.vertices.iter().all(|x| x.0 < nv || x.0 >= 2 * nv),
+                "phase {phase}: a hidden vertex is on the cut"
+            );
+        }
+    }
+    assert!(
+        moved > 100,
+        "the strokes should move many vertices ({moved})"
+    );
+}
+
+#[test]
 fn moved_vertices_keep_their_depth_and_stay_within_the_snap_distance() {
     let g = perturbed_grid(10, 10, 0.25, 7);
     let v = perspective(DVec3::new(5.0, -6.0, 9.0), DVec3::new(5.0, 5.0, 0.0));

@@ -27,8 +27,9 @@ pub(crate) struct FaceBuckets {
     eps_world: f64,
 }
 
-/// A face in a bucket with its screen box, rounded outwards to f32: most entries are
-/// rejected by the box, read in line with the bucket instead of from three vertices.
+/// A face in a bucket with its screen box grown by the slack and rounded outwards to f32:
+/// most entries are rejected by the box, read in line with the bucket instead of from
+/// three vertices.
 #[derive(Debug, Clone, Copy, Default)]
 struct Entry {
     face: u32,
@@ -119,7 +120,9 @@ impl FaceBuckets {
         let mut list = vec![Entry::default(); start[ncell] as usize];
         for (lf, b) in boxes.iter().enumerate() {
             if let Some((x0, y0, x1, y1)) = *b {
+                // Grown like the buckets: snapping moves vertices after this.
                 let (lo, hi) = screen_boxes[lf].expect("bucketed faces are projectable");
+                let (lo, hi) = (lo - pad, hi + pad);
                 let entry = Entry {
                     face: lf as u32,
                     lo: [down(lo.x), down(lo.y)],

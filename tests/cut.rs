@@ -622,10 +622,10 @@ fn check_front_only(input: &PolyMesh, view: &View, out: &CutOutput) {
     }
 }
 
-#[test]
-fn a_hidden_sheet_is_not_cut_in_visible_only_mode() {
-    // Two grids, one 1 unit below the other, seen from above: only the top one is cut.
-    let top = tri_grid(6, 6);
+/// Two m × m triangle grids, the second 1 unit below the first: the mesh, the number of
+/// faces of one grid (faces from it on are the lower sheet's) and of vertices (likewise).
+fn two_sheets(m: u32) -> (PolyMesh, usize, u32) {
+    let top = tri_grid(m, m);
     let mut p = top.positions().to_vec();
     let nv = p.len() as u32;
     p.extend(top.positions().iter().map(|q| *q - DVec3::Z));
@@ -638,7 +638,13 @@ fn a_hidden_sheet_is_not_cut_in_visible_only_mode() {
         let t: Vec<u32> = faces[k].iter().map(|&v| v + nv).collect();
         faces.push(t);
     }
-    let two = PolyMesh::from_polygons(p, faces).unwrap();
+    (PolyMesh::from_polygons(p, faces).unwrap(), n, nv)
+}
+
+#[test]
+fn a_hidden_sheet_is_not_cut_in_visible_only_mode() {
+    // Two grids, one 1 unit below the other, seen from above: only the top one is cut.
+    let (two, n, _) = two_sheets(6);
     let v = top_view(-0.5, 6.5, -0.5, 6.5, 0.02);
     let pts = [(40.0, 120.0), (200.0, 150.0), (300.0, 170.0)];
     let vis = cut(&two, &pts, &v, &CutOptions::default());
@@ -660,20 +666,7 @@ fn a_hidden_sheet_is_not_cut_in_visible_only_mode() {
 fn a_hidden_sheet_stays_uncut_when_snapping_moves_the_top_sheet() {
     // Occluders are found by screen boxes taken before snapping; wavy strokes over a finer
     // grid move many top vertices, and none of the crossings below may then be seen.
-    let top = tri_grid(12, 12);
-    let mut p = top.positions().to_vec();
-    let nv = p.len() as u32;
-    p.extend(top.positions().iter().map(|q| *q - DVec3::Z));
-    let mut faces: Vec<Vec<u32>> = top
-        .faces()
-        .map(|f| top.face_outer(f).iter().map(|v| v.0).collect())
-        .collect();
-    let n = faces.len();
-    for k in 0..n {
-        let t: Vec<u32> = faces[k].iter().map(|&v| v + nv).collect();
-        faces.push(t);
-    }
-    let two = PolyMesh::from_polygons(p, faces).unwrap();
+    let (two, n, nv) = two_sheets(12);
     // In perspective, as MeshLab's harness has it: the lower sheet is not exactly under the top one.
     let v = perspective(DVec3::new(6.0, 6.0, 10.0), DVec3::new(6.0, 6.0, 0.0));
     let mut moved = 0;

@@ -97,16 +97,27 @@ impl FaceBuckets {
         // Counting sort by cell, faces ascending within a cell: count, prefix-sum, fill.
         let range = |a: DVec2, b: DVec2| cell_range(origin, cell, nx, ny, a, b);
         let pad = DVec2::splat(slack);
-        let boxes: Vec<Option<(i32, i32, i32, i32)>> = screen_boxes
+        // Each bucketed face's cell range and entry, both from its box grown by the slack
+        // (snapping moves vertices after this).
+        let boxes: Vec<Option<(CellRange, Entry)>> = screen_boxes
             .iter()
             .zip(&region.sign)
-            .map(|(b, &sign)| match b {
-                Some((lo, hi)) if sign != 0.0 => range(*lo - pad, *hi + pad),
+            .enumerate()
+            .map(|(lf, (b, &sign))| match b {
+                Some((lo, hi)) if sign != 0.0 => {
+                    let (lo, hi) = (*lo - pad, *hi + pad);
+                    let entry = Entry {
+                        face: lf as u32,
+                        lo: [down(lo.x), down(lo.y)],
+                        hi: [up(hi.x), up(hi.y)],
+                    };
+                    range(lo, hi).map(|r| (r, entry))
+                }
                 _ => None,
             })
             .collect();
         let mut start = vec![0u32; ncell + 1];
-        for &(x0, y0, x1, y1) in boxes.iter().flatten() {
+        for &((x0, y0, x1, y1), _) in boxes.iter().flatten() {
             for cy in y0..=y1 {
                 for cx in x0..=x1 {
                     start[(cy * nx + cx) as usize + 1] += 1;
@@ -118,22 +129,12 @@ impl FaceBuckets {
         }
         let mut fill = start.clone();
         let mut list = vec![Entry::default(); start[ncell] as usize];
-        for (lf, b) in boxes.iter().enumerate() {
-            if let Some((x0, y0, x1, y1)) = *b {
-                // Grown like the buckets: snapping moves vertices after this.
-                let (lo, hi) = screen_boxes[lf].expect("bucketed faces are projectable");
-                let (lo, hi) = (lo - pad, hi + pad);
-                let entry = Entry {
-                    face: lf as u32,
-                    lo: [down(lo.x), down(lo.y)],
-                    hi: [up(hi.x), up(hi.y)],
-                };
-                for cy in y0..=y1 {
-                    for cx in x0..=x1 {
-                        let c = (cy * nx + cx) as usize;
-                        list[fill[c] as usize] = entry;
-                        fill[c] += 1;
-                    }
+        for &((x0, y0, x1, y1), entry) in boxes.iter().flatten() {
+            for cy in y0..=y1 {
+                for cx in x0..=x1 {
+                    let c = (cy * nx + cx) as usize;
+                    list[fill[c] as usize] = entry;
+                    fill[c] += 1;
                 }
             }
         }
@@ -199,6 +200,9 @@ impl FaceBuckets {
     }
 }
 
+/// Inclusive cell range (x0, y0, x1, y1).
+type CellRange = (i32, i32, i32, i32);
+
 fn cell_range(
     origin: DVec2,
     cell: f64,
@@ -206,7 +210,7 @@ fn cell_range(
     ny: i32,
     lo: DVec2,
     hi: DVec2,
-) -> Option<(i32, i32, i32, i32)> {
+) -> Option<CellRange> {
     let (x0, y0) = cell_of(origin, cell, lo);
     let (x1, y1) = cell_of(origin, cell, hi);
     if x1 < 0 || y1 < 0 || x0 >= nx || y0 >= ny {

@@ -22,7 +22,7 @@ const CHUNK: usize = 1 << 14;
 /// How far (in cells) the "near" marks reach around the band: faces spanning up to this many
 /// cells are rejected from their corners' bits alone. Cells are about one mean edge long and
 /// edges vary, so 1 sent a quarter of a dense mesh's faces to the slow test; 4 sends few
-/// and suits [`within_ring`]'s lanes.
+/// and suits [`surely_away`]'s lanes.
 const NEAR_RING: u32 = 4;
 
 /// The grid over the stroke: geometry, marked cells and the segments near each cell.
@@ -252,16 +252,18 @@ pub(crate) fn vertex_codes(positions: &[DVec3], proj: &Projector, grid: &CellGri
     codes
 }
 
-/// Whether the cells of three codes lie within `NEAR_RING` of each other on both axes, by
-/// lanes in one word (the scan's hot test; min/max per axis cost twice as much): per pair,
-/// x and y differences offset by 3 must be in [0, 7], so every difference is in [-3, 4]
-/// and the span at most 4 = `NEAR_RING`. Lanes are 14 bits (cells ≤ 2048 + border) under a
-/// guard bit that absorbs the borrow.
+/// Whether a face is surely away from every marked cell, from its corners' codes alone:
+/// corner 0 is not near a marked cell, and corners 1 and 2 lie within `NEAR_RING` cells of
+/// it on both axes, so the face's cell box lies within `NEAR_RING` of corner 0 and holds no
+/// marked cell. (A [`BEHIND`] corner fails either test.) The scan's hot test, by lanes in
+/// one word: per pair, x and y differences offset by 4 must be in [0, 7], that is in
+/// [-4, 3]. Lanes are 14 bits (cells ≤ 2048 + border) under a guard bit that absorbs the
+/// borrow.
 #[inline]
-fn within_ring(c: [u32; 3]) -> bool {
+fn surely_away(c: [u32; 3]) -> bool {
     const LANES: u32 = 0x3fff_3fff;
     const GUARD: u32 = 0x4000_4000;
-    const OFFSET: u32 = 0x0003_0003;
+    const OFFSET: u32 = NEAR_RING | NEAR_RING << 16;
     let d = |p: u32, q: u32| {
         (((p & LANES) | GUARD)
             .wrapping_sub(q & LANES)
@@ -269,7 +271,7 @@ fn within_ring(c: [u32; 3]) -> bool {
             ^ GUARD)
             & 0xfff8_fff8
     };
-    d(c[0], c[1]) | d(c[1], c[2]) | d(c[2], c[0]) == 0
+    c[0] >> 31 == 0 && d(c[1], c[0]) | d(c[2], c[0]) == 0
 }
 
 /// Pass 2: candidate triangles (ascending) and triangles straddling the eye plane that the
@@ -288,9 +290,8 @@ pub(crate) fn candidate_faces(
             let mut clipped = Vec::new();
             for (i, t) in chunk.chunks_exact(3).enumerate() {
                 let c = [codes[t[0].idx()], codes[t[1].idx()], codes[t[2].idx()]];
-                // Fast reject, the common case: no corner near the band (BEHIND has that
-                // bit set too) and the face within NEAR_RING cells each way.
-                if (c[0] | c[1] | c[2]) >> 31 == 0 && within_ring(c) {
+                // Fast reject, the common case.
+                if surely_away(c) {
                     continue;
                 }
                 let behind = c.iter().filter(|&&x| x == BEHIND).count();

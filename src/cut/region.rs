@@ -84,136 +84,32 @@ impl Region {
             .iter()
             .map(|&g| mesh.positions()[g as usize])
             .collect();
-        let seen: Vec<Option<Seen>> = pos.iter().map(|&p| proj.see(p)).collect();
-        // Within the margin of the stroke: every face around is kept.
-        let complete: Vec<bool> = seen
-            .iter()
-            .map(|s| {
-                let Some(s) = s else { return false };
-                grid.range(s.screen, s.screen)
-                    .is_some_and(|(cx, cy, _, _)| {
-                        grid.segments_at(cx, cy).iter().any(|&k| {
-                            let (a, b) = segments[k as usize];
-                            point_segment_distance(s.screen, a, b) <= margin
+        // The edge table beside the per-vertex and per-face data.
+        let (edge_table, (seen, complete, (vf_start, vf_list), (sign, cuttable, degenerate))) =
+            rayon::join(
+                || edge_table(&tri, &verts),
+                || {
+                    let seen: Vec<Option<Seen>> = pos.iter().map(|&p| proj.see(p)).collect();
+                    // Within the margin of the stroke: every face around is kept.
+                    let complete: Vec<bool> = seen
+                        .iter()
+                        .map(|s| {
+                            let Some(s) = s else { return false };
+                            grid.range(s.screen, s.screen)
+                                .is_some_and(|(cx, cy, _, _)| {
+                                    grid.segments_at(cx, cy).iter().any(|&k| {
+                                        let (a, b) = segments[k as usize];
+                                        point_segment_distance(s.screen, a, b) <= margin
+                                    })
+                                })
                         })
-                    })
-            })
-            .collect();
-
-        // Edges: the directed corner edges ordered by (min, max, corner): a counting sort on
-        // the smaller end, then each vertex's few entries sorted in place.
-        let nv = verts.len();
-        let mut he_start = vec![0u32; nv + 1];
-        for t in &tri {
-            for i in 0..3 {
-                he_start[t[i].min(t[(i + 1) % 3]) as usize + 1] += 1;
-            }
-        }
-        for k in 0..nv {
-            he_start[k + 1] += he_start[k];
-        }
-        let mut fill = he_start.clone();
-        let mut he: Vec<(u64, u32)> = vec![(0, 0); 3 * tri.len()];
-        for (lf, t) in tri.iter().enumerate() {
-            for i in 0..3 {
-                let (a, b) = (t[i], t[(i + 1) % 3]);
-                let slot = &mut fill[a.min(b) as usize];
-                he[*slot as usize] = (
-                    (a.min(b) as u64) << 32 | a.max(b) as u64,
-                    3 * lf as u32 + i as u32,
-                );
-                *slot += 1;
-            }
-        }
-        for k in 0..nv {
-            he[he_start[k] as usize..he_start[k + 1] as usize].sort_unstable();
-        }
-        let mut face_edges = vec![[NONE; 3]; tri.len()];
-        let mut edges = Vec::new();
-        let mut edge_faces = Vec::new();
-        let mut i = 0;
-        while i < he.len() {
-            let mut j = i + 1;
-            while j < he.len() && he[j].0 == he[i].0 {
-                j += 1;
-            }
-            let (a, b) = ((he[i].0 >> 32) as u32, he[i].0 as u32);
-            let (ga, gb) = (verts[a as usize], verts[b as usize]);
-            if j - i > 2 {
-                return Err(Error::NonManifoldEdge {
-                    a: ga,
-                    b: gb,
-                    uses: (j - i) as u32,
-                });
-            }
-            let corner = |k: usize| ((he[k].1 / 3) as usize, (he[k].1 % 3) as usize);
-            if j - i == 2 {
-                let from = |k: usize| {
-                    let (f, c) = corner(k);
-                    tri[f][c]
-                };
-                if from(i) == from(i + 1) {
-                    let (fa, fb) = if from(i) == a { (ga, gb) } else { (gb, ga) };
-                    return Err(Error::InconsistentOrientation { a: fa, b: fb });
-                }
-            }
-            let e = edges.len() as u32;
-            edges.push([a, b]);
-            let mut ef = [NONE; 2];
-            for k in i..j {
-                let (f, c) = corner(k);
-                face_edges[f][c] = e;
-                ef[k - i] = f as u32;
-            }
-            edge_faces.push(ef);
-            i = j;
-        }
-
-        // Vertex → faces (CSR, faces ascending within each vertex).
-        let mut vf_start = vec![0u32; nv + 1];
-        for t in &tri {
-            for &v in t {
-                vf_start[v as usize + 1] += 1;
-            }
-        }
-        for k in 0..nv {
-            vf_start[k + 1] += vf_start[k];
-        }
-        let mut fill = vf_start.clone();
-        let mut vf_list = vec![0u32; vf_start[nv] as usize];
-        for (lf, t) in tri.iter().enumerate() {
-            for &v in t {
-                vf_list[fill[v as usize] as usize] = lf as u32;
-                fill[v as usize] += 1;
-            }
-        }
-
-        let mut sign = vec![0.0; tri.len()];
-        let mut cuttable = vec![false; tri.len()];
-        let mut degenerate = vec![false; tri.len()];
-        for (lf, t) in tri.iter().enumerate() {
-            let s = [
-                seen[t[0] as usize],
-                seen[t[1] as usize],
-                seen[t[2] as usize],
-            ];
-            let (Some(a), Some(b), Some(c)) = (s[0], s[1], s[2]) else {
-                continue;
-            };
-            let o = orient(a.screen, b.screen, c.screen);
-            let p = [pos[t[0] as usize], pos[t[1] as usize], pos[t[2] as usize]];
-            let area = (p[1] - p[0]).cross(p[2] - p[0]).length();
-            if o == 0.0 || area == 0.0 {
-                degenerate[lf] = true;
-                continue;
-            }
-            sign[lf] = o.signum();
-            // Front-facing = counter-clockwise in y-up NDC = negative orient on the y-down screen.
-            cuttable[lf] = match mode {
-                CutMode::ThroughAll => true,
-                CutMode::VisibleOnly => o < 0.0,
-            };
-        }
+                        .collect();
+                    let vf = vertex_faces_csr(&tri, verts.len());
+                    let signs = face_signs(&tri, &seen, &pos, mode);
+                    (seen, complete, vf, signs)
+                },
+            );
+        let (face_edges, edges, edge_faces) = edge_table?;
         Ok(Region {
             faces,
             tri,
@@ -336,3 +232,140 @@ fn local_ids(corners: &[VertexId], faces: &[u32]) -> (Vec<u32>, Vec<[u32; 3]>) {
 
 const RADIX_BITS: u32 = 11;
 const RADIX_MASK: u32 = (1 << RADIX_BITS) - 1;
+
+/// The local edges of `tri`: each face's edge per corner, each edge's ends (ascending) and
+/// its one or two faces; a non-manifold or inconsistently oriented edge is an error naming
+/// its global vertices (`verts`).
+#[allow(clippy::type_complexity)]
+fn edge_table(
+    tri: &[[u32; 3]],
+    verts: &[u32],
+) -> Result<(Vec<[u32; 3]>, Vec<[u32; 2]>, Vec<[u32; 2]>)> {
+    // Edges: the directed corner edges ordered by (min, max, corner): a counting sort on
+    // the smaller end, then each vertex's few entries sorted in place.
+    let nv = verts.len();
+    let mut he_start = vec![0u32; nv + 1];
+    for t in tri {
+        for i in 0..3 {
+            he_start[t[i].min(t[(i + 1) % 3]) as usize + 1] += 1;
+        }
+    }
+    for k in 0..nv {
+        he_start[k + 1] += he_start[k];
+    }
+    let mut fill = he_start.clone();
+    let mut he: Vec<(u64, u32)> = vec![(0, 0); 3 * tri.len()];
+    for (lf, t) in tri.iter().enumerate() {
+        for i in 0..3 {
+            let (a, b) = (t[i], t[(i + 1) % 3]);
+            let slot = &mut fill[a.min(b) as usize];
+            he[*slot as usize] = (
+                (a.min(b) as u64) << 32 | a.max(b) as u64,
+                3 * lf as u32 + i as u32,
+            );
+            *slot += 1;
+        }
+    }
+    for k in 0..nv {
+        he[he_start[k] as usize..he_start[k + 1] as usize].sort_unstable();
+    }
+    let mut face_edges = vec![[NONE; 3]; tri.len()];
+    let mut edges = Vec::new();
+    let mut edge_faces = Vec::new();
+    let mut i = 0;
+    while i < he.len() {
+        let mut j = i + 1;
+        while j < he.len() && he[j].0 == he[i].0 {
+            j += 1;
+        }
+        let (a, b) = ((he[i].0 >> 32) as u32, he[i].0 as u32);
+        let (ga, gb) = (verts[a as usize], verts[b as usize]);
+        if j - i > 2 {
+            return Err(Error::NonManifoldEdge {
+                a: ga,
+                b: gb,
+                uses: (j - i) as u32,
+            });
+        }
+        let corner = |k: usize| ((he[k].1 / 3) as usize, (he[k].1 % 3) as usize);
+        if j - i == 2 {
+            let from = |k: usize| {
+                let (f, c) = corner(k);
+                tri[f][c]
+            };
+            if from(i) == from(i + 1) {
+                let (fa, fb) = if from(i) == a { (ga, gb) } else { (gb, ga) };
+                return Err(Error::InconsistentOrientation { a: fa, b: fb });
+            }
+        }
+        let e = edges.len() as u32;
+        edges.push([a, b]);
+        let mut ef = [NONE; 2];
+        for k in i..j {
+            let (f, c) = corner(k);
+            face_edges[f][c] = e;
+            ef[k - i] = f as u32;
+        }
+        edge_faces.push(ef);
+        i = j;
+    }
+    Ok((face_edges, edges, edge_faces))
+}
+
+/// Vertex → faces (CSR, faces ascending within each vertex).
+fn vertex_faces_csr(tri: &[[u32; 3]], nv: usize) -> (Vec<u32>, Vec<u32>) {
+    let mut vf_start = vec![0u32; nv + 1];
+    for t in tri {
+        for &v in t {
+            vf_start[v as usize + 1] += 1;
+        }
+    }
+    for k in 0..nv {
+        vf_start[k + 1] += vf_start[k];
+    }
+    let mut fill = vf_start.clone();
+    let mut vf_list = vec![0u32; vf_start[nv] as usize];
+    for (lf, t) in tri.iter().enumerate() {
+        for &v in t {
+            vf_list[fill[v as usize] as usize] = lf as u32;
+            fill[v as usize] += 1;
+        }
+    }
+    (vf_start, vf_list)
+}
+
+/// Each face's screen orientation sign, whether the cut may split it, whether it is degenerate.
+fn face_signs(
+    tri: &[[u32; 3]],
+    seen: &[Option<Seen>],
+    pos: &[DVec3],
+    mode: CutMode,
+) -> (Vec<f64>, Vec<bool>, Vec<bool>) {
+    let mut sign = vec![0.0; tri.len()];
+    let mut cuttable = vec![false; tri.len()];
+    let mut degenerate = vec![false; tri.len()];
+    for (lf, t) in tri.iter().enumerate() {
+        let s = [
+            seen[t[0] as usize],
+            seen[t[1] as usize],
+            seen[t[2] as usize],
+        ];
+        let (Some(a), Some(b), Some(c)) = (s[0], s[1], s[2]) else {
+            continue;
+        };
+        let o = orient(a.screen, b.screen, c.screen);
+        let p = [pos[t[0] as usize], pos[t[1] as usize], pos[t[2] as usize]];
+        let area = (p[1] - p[0]).cross(p[2] - p[0]).length();
+        if o == 0.0 || area == 0.0 {
+            degenerate[lf] = true;
+            continue;
+        }
+        sign[lf] = o.signum();
+        // Front-facing = counter-clockwise in y-up NDC = negative orient on the y-down screen.
+        cuttable[lf] = match mode {
+            CutMode::ThroughAll => true,
+            CutMode::VisibleOnly => o < 0.0,
+        };
+    }
+    (sign, cuttable, degenerate)
+}

@@ -85,7 +85,7 @@ impl CellGrid {
                 for cx in x0.max(0)..=x1.min(nx - 1) {
                     let centre = lo + DVec2::new(cx as f64 + 0.5, cy as f64 + 0.5) * cell;
                     // Conservative: the cell may hold a point within `margin` of the segment.
-                    if point_segment_distance(centre, a, b) <= margin + half_diag * 1.0001 {
+                    if within(centre, a, b, margin + half_diag * 1.0001) {
                         let c = (cy * nx + cx) as usize;
                         marked[c] = true;
                         pairs.push((c as u32, si as u32));
@@ -93,31 +93,25 @@ impl CellGrid {
                 }
             }
         }
-        // Dilation by NEAR_RING cells (Chebyshev), rows then columns.
+        pairs.sort_unstable();
+        // Dilation by NEAR_RING cells (Chebyshev): a row span per marked cell and row (the
+        // marked cells are a thin band, so this beats two passes over the whole grid).
         let r = NEAR_RING as i32;
-        let mut rows = vec![false; ncell];
-        for cy in 0..ny {
-            let row = (cy * nx) as usize;
-            for cx in 0..nx {
-                if marked[row + cx as usize] {
-                    for x in (cx - r).max(0)..=(cx + r).min(nx - 1) {
-                        rows[row + x as usize] = true;
-                    }
-                }
-            }
-        }
         // With the outside ring (never near), indexed by code: (cy + 1)·(nx + 2) + cx + 1.
         let mut near = vec![false; ((nx + 2) * (ny + 2)) as usize];
-        for cy in 0..ny {
-            for cx in 0..nx {
-                if rows[(cy * nx + cx) as usize] {
-                    for y in (cy - r).max(0)..=(cy + r).min(ny - 1) {
-                        near[((y + 1) * (nx + 2) + cx + 1) as usize] = true;
-                    }
-                }
+        let mut last = u32::MAX;
+        for &(c, _) in &pairs {
+            if c == last {
+                continue;
+            }
+            last = c;
+            let (cx, cy) = ((c % nx as u32) as i32, (c / nx as u32) as i32);
+            let (x0, x1) = ((cx - r).max(0), (cx + r).min(nx - 1));
+            for y in (cy - r).max(0)..=(cy + r).min(ny - 1) {
+                let row = ((y + 1) * (nx + 2) + 1) as usize;
+                near[row + x0 as usize..=row + x1 as usize].fill(true);
             }
         }
-        pairs.sort_unstable();
         let mut seg_start = vec![0u32; ncell + 1];
         for &(c, _) in &pairs {
             seg_start[c as usize + 1] += 1;
@@ -225,8 +219,38 @@ impl CellGrid {
 #[inline]
 pub(crate) fn cell_of(origin: DVec2, cell: f64, s: DVec2) -> (i32, i32) {
     let q = (s - origin) / cell;
-    // Saturating float → int casts keep far-away points far away.
-    (q.x.floor() as i32, q.y.floor() as i32)
+    (floor_i32(q.x), floor_i32(q.y))
+}
+
+/// `x.floor() as i32`: saturating, NaN → 0, so far-away points stay far away. Without
+/// SSE4.1 `floor` is a libm call, and this is on every box query.
+#[inline]
+fn floor_i32(x: f64) -> i32 {
+    let t = x as i32;
+    if t as f64 > x {
+        t.saturating_sub(1)
+    } else {
+        t
+    }
+}
+
+/// Whether `p` is within `r` of segment `ab`: [`point_segment_distance`] `<= r` up to
+/// rounding, without its square root and division (the grid and [`refine`] ask this
+/// thousands of times per cut).
+#[inline]
+pub(crate) fn within(p: DVec2, a: DVec2, b: DVec2, r: f64) -> bool {
+    let (ab, ap) = (b - a, p - a);
+    let t = ap.dot(ab);
+    let r2 = r * r;
+    if t <= 0.0 {
+        return ap.length_squared() <= r2;
+    }
+    let len2 = ab.length_squared();
+    if t >= len2 {
+        return (p - b).length_squared() <= r2;
+    }
+    let c = ab.perp_dot(ap);
+    c * c <= r2 * len2
 }
 
 pub(crate) fn point_segment_distance(p: DVec2, a: DVec2, b: DVec2) -> f64 {
@@ -371,14 +395,11 @@ pub(crate) fn refine(
                     if a.max(b).cmplt(lo - pad).any() || a.min(b).cmpgt(hi + pad).any() {
                         continue;
                     }
-                    let d = segment_triangle_distance(a, b, s);
-                    if d <= keep {
-                        near = true;
-                        if d == 0.0 {
-                            meets = true;
-                            break;
-                        }
+                    if segment_meets_triangle(a, b, s) {
+                        (near, meets) = (true, true);
+                        break;
                     }
+                    near = near || segment_near_triangle(a, b, s, keep);
                 }
                 if near {
                     out.push((f, meets));
@@ -390,8 +411,8 @@ pub(crate) fn refine(
     chunks.into_iter().flatten().collect()
 }
 
-/// Distance between a segment and a triangle on screen (0 when they meet), f64.
-fn segment_triangle_distance(a: DVec2, b: DVec2, t: [DVec2; 3]) -> f64 {
+/// Whether a segment and a triangle on screen meet (touching counts), f64.
+fn segment_meets_triangle(a: DVec2, b: DVec2, t: [DVec2; 3]) -> bool {
     let cross = |o: DVec2, p: DVec2, q: DVec2| (p - o).perp_dot(q - o);
     let inside = |p: DVec2| {
         let o = [
@@ -402,22 +423,23 @@ fn segment_triangle_distance(a: DVec2, b: DVec2, t: [DVec2; 3]) -> f64 {
         !(o.iter().any(|&v| v > 0.0) && o.iter().any(|&v| v < 0.0))
     };
     if inside(a) || inside(b) {
-        return 0.0;
+        return true;
     }
-    let mut d = f64::INFINITY;
-    for i in 0..3 {
+    (0..3).any(|i| {
         let (p, q) = (t[i], t[(i + 1) % 3]);
         let (o1, o2) = (cross(a, b, p), cross(a, b, q));
         let (o3, o4) = (cross(p, q, a), cross(p, q, b));
-        if o1 * o2 <= 0.0 && o3 * o4 <= 0.0 && (o1 != 0.0 || o2 != 0.0) {
-            return 0.0;
-        }
-        d = d
-            .min(point_segment_distance(a, p, q))
-            .min(point_segment_distance(b, p, q))
-            .min(point_segment_distance(p, a, b));
-    }
-    d
+        o1 * o2 <= 0.0 && o3 * o4 <= 0.0 && (o1 != 0.0 || o2 != 0.0)
+    })
+}
+
+/// Whether a segment and a triangle that do not meet come within `r` of each other: the
+/// nearest pair has an end point of one on the other.
+fn segment_near_triangle(a: DVec2, b: DVec2, t: [DVec2; 3], r: f64) -> bool {
+    (0..3).any(|i| {
+        let (p, q) = (t[i], t[(i + 1) % 3]);
+        within(a, p, q, r) || within(b, p, q, r) || within(p, a, b, r)
+    })
 }
 
 /// A cheap guess of the mean screen edge length from up to ~512 evenly spaced faces, to size
@@ -451,5 +473,38 @@ pub(crate) fn sample_edge_length(
         0.0
     } else {
         sum / n as f64
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::floor_i32;
+
+    #[test]
+    fn floor_i32_is_a_saturating_floor() {
+        let cases = [
+            0.0,
+            -0.0,
+            0.5,
+            -0.5,
+            1.0,
+            -1.0,
+            2.999,
+            -2.001,
+            1e300,
+            -1e300,
+            3e9,
+            -3e9,
+            2147483647.5,
+            -2147483648.5,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::NAN,
+            f64::MIN_POSITIVE,
+            -f64::MIN_POSITIVE,
+        ];
+        for x in cases {
+            assert_eq!(floor_i32(x), x.floor() as i32, "{x}");
+        }
     }
 }

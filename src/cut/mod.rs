@@ -68,6 +68,7 @@ mod interpolate;
 mod normalize;
 mod open;
 mod options;
+mod radix;
 mod region;
 mod report;
 mod snap;

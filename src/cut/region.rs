@@ -199,26 +199,7 @@ fn local_ids(corners: &[VertexId], faces: &[u32]) -> (Vec<u32>, Vec<[u32; 3]>) {
             keys.push((corners[3 * f as usize + i].0, (3 * lf + i) as u32));
         }
     }
-    let max = keys.iter().map(|k| k.0).max().unwrap_or(0);
-    let mut tmp = vec![(0u32, 0u32); keys.len()];
-    let mut shift = 0;
-    while shift < 32 && (max >> shift) > 0 {
-        let mut count = [0u32; 1 << RADIX_BITS];
-        for k in &keys {
-            count[((k.0 >> shift) & RADIX_MASK) as usize] += 1;
-        }
-        let mut sum = 0;
-        for c in count.iter_mut() {
-            (*c, sum) = (sum, sum + *c);
-        }
-        for &k in &keys {
-            let d = ((k.0 >> shift) & RADIX_MASK) as usize;
-            tmp[count[d] as usize] = k;
-            count[d] += 1;
-        }
-        std::mem::swap(&mut keys, &mut tmp);
-        shift += RADIX_BITS;
-    }
+    super::radix::sort_by_key(&mut keys);
     let mut verts: Vec<u32> = Vec::new();
     let mut tri = vec![[0u32; 3]; faces.len()];
     for &(v, slot) in &keys {
@@ -229,9 +210,6 @@ fn local_ids(corners: &[VertexId], faces: &[u32]) -> (Vec<u32>, Vec<[u32; 3]>) {
     }
     (verts, tri)
 }
-
-const RADIX_BITS: u32 = 11;
-const RADIX_MASK: u32 = (1 << RADIX_BITS) - 1;
 
 /// The local edges of `tri`: each face's edge per corner, each edge's ends (ascending) and
 /// its one or two faces; a non-manifold or inconsistently oriented edge is an error naming

@@ -15,6 +15,7 @@ use glam::{DVec2, DVec3};
 
 use super::candidates::{cell_of, CellGrid};
 use super::geom::{barycentric, in_triangle};
+use super::radix::{f32_key, sort_by_key};
 use super::region::Region;
 
 pub(crate) struct FaceBuckets {
@@ -27,12 +28,14 @@ pub(crate) struct FaceBuckets {
     eps_world: f64,
 }
 
-/// A face in a bucket with its screen box grown by the slack and rounded outwards to f32:
-/// most entries are rejected by the box, read in line with the bucket instead of from
-/// three vertices.
+/// A face in a bucket with its screen box grown by the slack and rounded outwards to f32,
+/// and its nearest corner depth rounded down: most entries are rejected by the box, read in
+/// line with the bucket instead of from three vertices, and a bucket (sorted by `near`)
+/// stops at the first face wholly behind the point.
 #[derive(Debug, Clone, Copy, Default)]
 struct Entry {
     face: u32,
+    near: f32,
     lo: [f32; 2],
     hi: [f32; 2],
 }
@@ -94,30 +97,37 @@ impl FaceBuckets {
             lo = lo.min(p);
             hi = hi.max(p);
         }
-        // Counting sort by cell, faces ascending within a cell: count, prefix-sum, fill.
+        // Counting sort by cell (stable, so nearest first within a cell): count, prefix-sum,
+        // fill.
         let range = |a: DVec2, b: DVec2| cell_range(origin, cell, nx, ny, a, b);
         let pad = DVec2::splat(slack);
         // Each bucketed face's cell range and entry, both from its box grown by the slack
         // (snapping moves vertices after this).
-        let boxes: Vec<Option<(CellRange, Entry)>> = screen_boxes
-            .iter()
-            .zip(&region.sign)
-            .enumerate()
-            .map(|(lf, (b, &sign))| match b {
-                Some((lo, hi)) if sign != 0.0 => {
-                    let (lo, hi) = (*lo - pad, *hi + pad);
-                    let entry = Entry {
-                        face: lf as u32,
-                        lo: [down(lo.x), down(lo.y)],
-                        hi: [up(hi.x), up(hi.y)],
-                    };
-                    range(lo, hi).map(|r| (r, entry))
-                }
-                _ => None,
-            })
-            .collect();
+        // (Reserved up front: growing these by doubling cost more than filling them.)
+        let mut boxes: Vec<(CellRange, Entry)> = Vec::with_capacity(screen_boxes.len());
+        let mut order: Vec<(u32, u32)> = Vec::with_capacity(screen_boxes.len());
+        for (lf, (b, &sign)) in screen_boxes.iter().zip(&region.sign).enumerate() {
+            let Some((lo, hi)) = b else { continue };
+            if sign == 0.0 {
+                continue;
+            }
+            let (lo, hi) = (*lo - pad, *hi + pad);
+            let z = region.tri[lf].map(|v| region.seen[v as usize].map_or(0.0, |s| s.z));
+            let entry = Entry {
+                face: lf as u32,
+                near: down(z[0].min(z[1]).min(z[2])),
+                lo: [down(lo.x), down(lo.y)],
+                hi: [up(hi.x), up(hi.y)],
+            };
+            if let Some(r) = range(lo, hi) {
+                order.push((f32_key(entry.near), boxes.len() as u32));
+                boxes.push((r, entry));
+            }
+        }
+        // Nearest first (ties by face), so every bucket is sorted by `near` for `hidden`.
+        sort_by_key(&mut order);
         let mut start = vec![0u32; ncell + 1];
-        for &((x0, y0, x1, y1), _) in boxes.iter().flatten() {
+        for &((x0, y0, x1, y1), _) in &boxes {
             for cy in y0..=y1 {
                 for cx in x0..=x1 {
                     start[(cy * nx + cx) as usize + 1] += 1;
@@ -129,7 +139,8 @@ impl FaceBuckets {
         }
         let mut fill = start.clone();
         let mut list = vec![Entry::default(); start[ncell] as usize];
-        for &((x0, y0, x1, y1), entry) in boxes.iter().flatten() {
+        for &(_, i) in &order {
+            let ((x0, y0, x1, y1), entry) = boxes[i as usize];
             for cy in y0..=y1 {
                 for cx in x0..=x1 {
                     let c = (cy * nx + cx) as usize;
@@ -154,7 +165,8 @@ impl FaceBuckets {
         }
     }
 
-    /// Candidate faces whose screen box covers the cell of `s` (a superset of those holding `s`).
+    /// Candidate faces whose screen box covers the cell of `s` (a superset of those holding
+    /// `s`), nearest corner depth first.
     pub fn faces_at(&self, s: DVec2) -> impl Iterator<Item = u32> + '_ {
         self.entries_at(s).iter().map(|e| e.face)
     }
@@ -174,6 +186,11 @@ impl FaceBuckets {
     /// `z`) by more than the depth tolerance.
     pub fn hidden(&self, r: &Region, s: DVec2, z: f64, x: DVec3) -> bool {
         for e in self.entries_at(s) {
+            // Every face from here on has all its corners behind the point: NDC depth is
+            // affine on a screen triangle, so none of them is nearer at `s`.
+            if e.near as f64 > z {
+                break;
+            }
             // Outside the face's (outward-rounded) box is outside the face; most bucket
             // entries end here, before three orientation tests.
             if s.x < e.lo[0] as f64

@@ -79,8 +79,8 @@ impl CellGrid {
                 a.min(b) - DVec2::splat(margin),
                 a.max(b) + DVec2::splat(margin),
             );
-            let (x0, y0) = cell_of(lo, cell, smin);
-            let (x1, y1) = cell_of(lo, cell, smax);
+            let (x0, y0) = cell_of(lo, 1.0 / cell, smin);
+            let (x1, y1) = cell_of(lo, 1.0 / cell, smax);
             for cy in y0.max(0)..=y1.min(ny - 1) {
                 for cx in x0.max(0)..=x1.min(nx - 1) {
                     let centre = lo + DVec2::new(cx as f64 + 0.5, cy as f64 + 0.5) * cell;
@@ -166,8 +166,8 @@ impl CellGrid {
 
     /// Inclusive cell range of a box, clamped to the grid; `None` when it misses the grid.
     pub fn range(&self, lo: DVec2, hi: DVec2) -> Option<(i32, i32, i32, i32)> {
-        let (x0, y0) = cell_of(self.origin, self.cell, lo);
-        let (x1, y1) = cell_of(self.origin, self.cell, hi);
+        let (x0, y0) = cell_of(self.origin, self.inv_cell, lo);
+        let (x1, y1) = cell_of(self.origin, self.inv_cell, hi);
         if x1 < 0 || y1 < 0 || x0 >= self.nx || y0 >= self.ny {
             return None;
         }
@@ -216,9 +216,10 @@ impl CellGrid {
     }
 }
 
+/// The cell of `s` in a grid at `origin` with cells `1 / inv_cell` wide (unclamped).
 #[inline]
-pub(crate) fn cell_of(origin: DVec2, cell: f64, s: DVec2) -> (i32, i32) {
-    let q = (s - origin) / cell;
+pub(crate) fn cell_of(origin: DVec2, inv_cell: f64, s: DVec2) -> (i32, i32) {
+    let q = (s - origin) * inv_cell;
     (floor_i32(q.x), floor_i32(q.y))
 }
 

@@ -11,9 +11,10 @@
 //! (gap-fill, spec §4 step 7) by flipping non-path diagonals. A chord that the insertions did
 //! not make an edge (several pieces in one face) is recovered by flips inside the face.
 
-use std::collections::BTreeMap;
+use std::collections::HashMap;
 
 use glam::{DVec2, DVec3};
+use rayon::prelude::*;
 
 use super::crossings::{elem_depth, Elem, Occ};
 use super::geom::{in_triangle, max_cos, orient};
@@ -31,7 +32,7 @@ pub(crate) struct Splitter<'r> {
     /// Vertices on each local edge, by screen parameter from its first to its second end.
     edge_vertices: Vec<Vec<(f64, u32)>>,
     /// The vertex of each E or P element already placed.
-    placed: BTreeMap<Elem, u32>,
+    placed: HashMap<Elem, u32>,
     /// Screen distance under which a constructed point is an existing vertex (1e-9·L).
     eps_px: f64,
 }
@@ -45,7 +46,7 @@ impl<'r> Splitter<'r> {
             subs: vec![None; r.tri.len()],
             touched: Vec::new(),
             edge_vertices: vec![Vec::new(); r.edges.len()],
-            placed: BTreeMap::new(),
+            placed: HashMap::new(),
             eps_px: 1e-9 * l_px.max(1.0),
         }
     }
@@ -282,7 +283,7 @@ impl<'r> Splitter<'r> {
                     let (sx, sy) = (self.screen(x), self.screen(y));
                     let crosses = orient(su, sw, sx) * orient(su, sw, sy) < 0.0
                         && orient(sx, sy, su) * orient(sx, sy, sw) < 0.0;
-                    if crosses && self.try_flip(lf, i, r, sign, None) {
+                    if crosses && self.try_flip(lf, i, r, sign, false) {
                         flipped = true;
                         break 'search;
                     }
@@ -349,62 +350,86 @@ impl<'r> Splitter<'r> {
 
     /// Flips the diagonal of sub-triangle `i`'s edge `r` if the quadrilateral is strictly
     /// convex (and, with `better`, only if the smallest angle grows).
-    fn try_flip(&mut self, lf: u32, i: usize, r: usize, sign: f64, better: Option<()>) -> bool {
-        let subs = self.face_subs(lf);
-        let t1 = rotated(subs[i], r);
-        let (x, y, p) = (t1[0], t1[1], t1[2]);
-        let Some((j, rj)) = find_edge(subs, y, x) else {
-            return false;
-        };
-        let q = rotated(subs[j], rj)[2];
-        let s = [x, q, y, p].map(|v| self.screen(v));
-        let convex = (0..4).all(|k| orient(s[k], s[(k + 1) % 4], s[(k + 2) % 4]) * sign > 0.0);
-        if !convex {
+    fn try_flip(&mut self, lf: u32, i: usize, r: usize, sign: f64, better: bool) -> bool {
+        if self.subs[lf as usize].is_none() {
+            // An untouched face has one sub-triangle: nothing to flip.
             return false;
         }
-        if better.is_some() {
-            let (px, py, pp, pq) = (self.pos(x), self.pos(y), self.pos(p), self.pos(q));
-            let before = max_cos(px, py, pp).max(max_cos(py, px, pq)).acos();
-            let after = max_cos(pp, px, pq).max(max_cos(pq, py, pp)).acos();
-            if after <= before * (1.0 + 1e-9) {
-                return false;
-            }
-        }
-        let subs = self.subs_mut(lf);
-        subs[i] = [p, x, q];
-        subs[j] = [q, y, p];
-        true
+        let mut subs = self.subs[lf as usize].take().expect("touched");
+        let flipped = flip(&mut subs, i, r, sign, better, self);
+        self.subs[lf as usize] = Some(subs);
+        flipped
     }
 
     /// Max-min-angle flips of the non-path diagonals inside each split face (P2's quad).
-    pub fn improve(&mut self, is_path_edge: &dyn Fn(u32, u32) -> bool) {
-        let touched = self.touched.clone();
-        for lf in touched {
-            let sign = self.r.sign[lf as usize];
-            if sign == 0.0 || !self.r.cuttable[lf as usize] {
-                continue;
-            }
-            for _ in 0..3 {
-                let mut any = false;
-                let n = self.face_subs(lf).len();
-                for i in 0..n {
-                    for r in 0..3 {
-                        let t = self.face_subs(lf)[i];
-                        let (x, y) = (t[r], t[(r + 1) % 3]);
-                        if x > y || is_path_edge(x, y) {
-                            continue;
-                        }
-                        if self.try_flip(lf, i, r, sign, Some(())) {
-                            any = true;
+    /// Faces are independent (flips stay inside one face), so they run on rayon.
+    pub fn improve(&mut self, is_path_edge: &(dyn Fn(u32, u32) -> bool + Sync)) {
+        let mut subs = std::mem::take(&mut self.subs);
+        let sp = &*self;
+        subs.par_iter_mut()
+            .enumerate()
+            .with_min_len(256)
+            .for_each(|(lf, subs)| {
+                let Some(subs) = subs else { return };
+                let sign = sp.r.sign[lf];
+                if sign == 0.0 || !sp.r.cuttable[lf] {
+                    return;
+                }
+                for _ in 0..3 {
+                    let mut any = false;
+                    for i in 0..subs.len() {
+                        for r in 0..3 {
+                            let t = subs[i];
+                            let (x, y) = (t[r], t[(r + 1) % 3]);
+                            if x > y || is_path_edge(x, y) {
+                                continue;
+                            }
+                            if flip(subs, i, r, sign, true, sp) {
+                                any = true;
+                            }
                         }
                     }
+                    if !any {
+                        break;
+                    }
                 }
-                if !any {
-                    break;
-                }
-            }
+            });
+        self.subs = subs;
+    }
+}
+
+/// Flips the diagonal across edge `r` of sub-triangle `i` when the quad is strictly convex
+/// and (with `better`) the smallest angle grows; `sp` gives positions (its `subs` unused).
+fn flip(
+    subs: &mut [[u32; 3]],
+    i: usize,
+    r: usize,
+    sign: f64,
+    better: bool,
+    sp: &Splitter<'_>,
+) -> bool {
+    let t1 = rotated(subs[i], r);
+    let (x, y, p) = (t1[0], t1[1], t1[2]);
+    let Some((j, rj)) = find_edge(subs, y, x) else {
+        return false;
+    };
+    let q = rotated(subs[j], rj)[2];
+    let s = [x, q, y, p].map(|v| sp.screen(v));
+    let convex = (0..4).all(|k| orient(s[k], s[(k + 1) % 4], s[(k + 2) % 4]) * sign > 0.0);
+    if !convex {
+        return false;
+    }
+    if better {
+        let (px, py, pp, pq) = (sp.pos(x), sp.pos(y), sp.pos(p), sp.pos(q));
+        let before = max_cos(px, py, pp).max(max_cos(py, px, pq)).acos();
+        let after = max_cos(pp, px, pq).max(max_cos(pq, py, pp)).acos();
+        if after <= before * (1.0 + 1e-9) {
+            return false;
         }
     }
+    subs[i] = [p, x, q];
+    subs[j] = [q, y, p];
+    true
 }
 
 #[derive(Debug, Clone, Copy)]

@@ -6,9 +6,10 @@
 //! vertex and stores its cell (clamped to one ring of "outside" cells, or "behind the eye"),
 //! with a bit saying whether the cell is next to a marked one; pass 2 keeps a face when the
 //! cell box of its corners covers a marked cell — a conservative test, so every face within
-//! the margin of the stroke is kept; most faces are rejected from the bits alone. Both passes
-//! run on rayon in fixed chunks and concatenate in chunk order, so the result does not
-//! depend on the thread count. [`refine`] then keeps the candidates truly within the margin.
+//! the margin of the stroke is kept; most faces are rejected from the bits alone, the rest
+//! are measured against the segments near their cells in the same pass. Both passes run on
+//! rayon in fixed chunks and concatenate in chunk order, so the result does not depend on
+//! the thread count.
 
 use glam::{DVec2, DVec3, DVec4};
 use rayon::prelude::*;
@@ -81,8 +82,8 @@ impl CellGrid {
             );
             let (x0, y0) = cell_of(lo, 1.0 / cell, smin);
             let (x1, y1) = cell_of(lo, 1.0 / cell, smax);
-            for cy in y0.max(0)..=y1.min(ny - 1) {
-                for cx in x0.max(0)..=x1.min(nx - 1) {
+            for cy in y0.max(0)..y1.min(ny - 1) + 1 {
+                for cx in x0.max(0)..x1.min(nx - 1) + 1 {
                     let centre = lo + DVec2::new(cx as f64 + 0.5, cy as f64 + 0.5) * cell;
                     // Conservative: the cell may hold a point within `margin` of the segment.
                     if within(centre, a, b, margin + half_diag * 1.0001) {
@@ -107,7 +108,7 @@ impl CellGrid {
             last = c;
             let (cx, cy) = ((c % nx as u32) as i32, (c / nx as u32) as i32);
             let (x0, x1) = ((cx - r).max(0), (cx + r).min(nx - 1));
-            for y in (cy - r).max(0)..=(cy + r).min(ny - 1) {
+            for y in (cy - r).max(0)..(cy + r).min(ny - 1) + 1 {
                 let row = ((y + 1) * (nx + 2) + 1) as usize;
                 near[row + x0 as usize..=row + x1 as usize].fill(true);
             }
@@ -197,9 +198,9 @@ impl CellGrid {
         if x1 < 0 || y1 < 0 || x0 >= self.nx || y0 >= self.ny {
             return false;
         }
-        for cy in y0.max(0)..=y1.min(self.ny - 1) {
+        for cy in y0.max(0)..y1.min(self.ny - 1) + 1 {
             let row = (cy * self.nx) as usize;
-            for cx in x0.max(0)..=x1.min(self.nx - 1) {
+            for cx in x0.max(0)..x1.min(self.nx - 1) + 1 {
                 if self.marked[row + cx as usize] {
                     return true;
                 }
@@ -236,7 +237,7 @@ fn floor_i32(x: f64) -> i32 {
 }
 
 /// Whether `p` is within `r` of segment `ab`: [`point_segment_distance`] `<= r` up to
-/// rounding, without its square root and division (the grid and [`refine`] ask this
+/// rounding, without its square root and division (the grid and [`Band::near_face`] ask this
 /// thousands of times per cut).
 #[inline]
 pub(crate) fn within(p: DVec2, a: DVec2, b: DVec2, r: f64) -> bool {
@@ -299,21 +300,38 @@ fn surely_away(c: [u32; 3]) -> bool {
     c[0] >> 31 == 0 && d(c[1], c[0]) | d(c[2], c[0]) == 0
 }
 
-/// Pass 2: candidate triangles (ascending) and triangles straddling the eye plane that the
-/// grid would otherwise keep or cannot judge (ascending).
+/// What [`candidate_faces`] keeps a face by: the stroke's segments and the margin, with the
+/// mesh positions and the view to place the face on screen.
+pub(crate) struct Band<'a> {
+    pub positions: &'a [DVec3],
+    pub proj: &'a Projector,
+    pub grid: &'a CellGrid,
+    pub segments: &'a [(DVec2, DVec2)],
+    pub margin: f64,
+}
+
+/// Pass 2: the faces within the band's margin of the stroke, ascending, each with whether
+/// the stroke meets it (for L); and, ascending, the kept faces straddling the eye plane. A
+/// face passes the grid test on its corners' codes first (most are rejected there), then
+/// [`Band::near_face`] in the same chunk, while its corners are in cache.
 pub(crate) fn candidate_faces(
     corners: &[VertexId],
     codes: &[u32],
-    grid: &CellGrid,
-) -> (Vec<u32>, Vec<u32>) {
-    let chunks: Vec<(Vec<u32>, Vec<u32>)> = corners
+    band: &Band<'_>,
+) -> (Vec<(u32, bool)>, Vec<u32>) {
+    let chunks: Vec<(Vec<(u32, bool)>, Vec<u32>)> = corners
         .par_chunks(3 * CHUNK)
         .enumerate()
         .map(|(ci, chunk)| {
             let base = (ci * CHUNK) as u32;
             let mut keep = Vec::new();
             let mut clipped = Vec::new();
+            let mut scratch = Scratch {
+                segs: Vec::new(),
+                stamp: vec![u32::MAX; band.segments.len()],
+            };
             for (i, t) in chunk.chunks_exact(3).enumerate() {
+                let f = base + i as u32;
                 let c = [codes[t[0].idx()], codes[t[1].idx()], codes[t[2].idx()]];
                 // Fast reject, the common case.
                 if surely_away(c) {
@@ -321,14 +339,16 @@ pub(crate) fn candidate_faces(
                 }
                 let behind = c.iter().filter(|&&x| x == BEHIND).count();
                 if behind == 0 {
-                    if grid.any_marked(c) {
-                        keep.push(base + i as u32);
+                    if band.grid.any_marked(c) {
+                        if let Some(meets) = band.near_face(f, [t[0], t[1], t[2]], &mut scratch) {
+                            keep.push((f, meets));
+                        }
                     }
                 } else if behind < 3 {
                     // Straddling the eye plane: never cut, but kept so an edge it shares with
                     // a cut face gets its split vertex too (no T-junction).
-                    keep.push(base + i as u32);
-                    clipped.push(base + i as u32);
+                    keep.push((f, false));
+                    clipped.push(f);
                 }
             }
             (keep, clipped)
@@ -343,73 +363,56 @@ pub(crate) fn candidate_faces(
     (keep, clipped)
 }
 
-/// Pass 3, on the candidates only: keep the faces whose screen triangle comes within
-/// `margin` of the stroke, and tell which ones the stroke meets (for L). Plain f64 with a
-/// relative slack on the margin: membership only needs to be conservative (a face around a
-/// vertex within the margin is at most as far as that vertex, by the same arithmetic), and
-/// L is a mean; every topological decision is taken later by exact predicates. Every face around a vertex within `margin` of the
-/// stroke is kept, so is every face the stroke crosses or that can hide a crossing.
-pub(crate) fn refine(
-    positions: &[DVec3],
-    corners: &[VertexId],
-    cands: &[u32],
-    proj: &Projector,
-    grid: &CellGrid,
-    segments: &[(DVec2, DVec2)],
-    margin: f64,
-) -> Vec<(u32, bool)> {
-    let keep = margin * (1.0 + 1e-9) + 1e-12;
-    let chunks: Vec<Vec<(u32, bool)>> = cands
-        .par_chunks(1024)
-        .map(|chunk| {
-            let mut out = Vec::with_capacity(chunk.len());
-            let mut segs: Vec<u32> = Vec::new();
-            // Segments already gathered for the current face (no sort per face).
-            let mut stamp: Vec<u32> = vec![u32::MAX; segments.len()];
-            for &f in chunk {
-                let t = &corners[3 * f as usize..3 * f as usize + 3];
-                let seen = [t[0], t[1], t[2]].map(|v| proj.see(positions[v.idx()]));
-                let [Some(s0), Some(s1), Some(s2)] = seen else {
-                    out.push((f, false)); // straddles the eye plane: kept, never cut
-                    continue;
-                };
-                let s = [s0.screen, s1.screen, s2.screen];
-                let (lo, hi) = (s[0].min(s[1]).min(s[2]), s[0].max(s[1]).max(s[2]));
-                let pad = DVec2::splat(keep);
-                segs.clear();
-                if let Some((x0, y0, x1, y1)) = grid.range(lo - pad, hi + pad) {
-                    for cy in y0..=y1 {
-                        for cx in x0..=x1 {
-                            for &k in grid.segments_at(cx, cy) {
-                                if stamp[k as usize] != f {
-                                    stamp[k as usize] = f;
-                                    segs.push(k);
-                                }
-                            }
+/// Per-chunk scratch of [`Band::near_face`]: the segments gathered for the current face,
+/// and the face that last gathered each segment (no sort per face).
+struct Scratch {
+    segs: Vec<u32>,
+    stamp: Vec<u32>,
+}
+
+impl Band<'_> {
+    /// Whether face `f` (corners `t`) comes within the margin of the stroke on screen:
+    /// `Some(whether the stroke meets it)`, or `None`. Plain f64 with a relative slack on
+    /// the margin: membership only needs to be conservative (a face around a vertex within
+    /// the margin is at most as far as that vertex, by the same arithmetic), and L is a mean;
+    /// every topological decision is taken later by exact predicates. So every face around
+    /// a vertex within the margin is kept, and every face the stroke crosses or that can
+    /// hide a crossing. A face with a corner behind the eye is kept (never cut).
+    fn near_face(&self, f: u32, t: [VertexId; 3], sc: &mut Scratch) -> Option<bool> {
+        let keep = self.margin * (1.0 + 1e-9) + 1e-12;
+        let seen = t.map(|v| self.proj.see(self.positions[v.idx()]));
+        let [Some(s0), Some(s1), Some(s2)] = seen else {
+            return Some(false);
+        };
+        let s = [s0.screen, s1.screen, s2.screen];
+        let (lo, hi) = (s[0].min(s[1]).min(s[2]), s[0].max(s[1]).max(s[2]));
+        let pad = DVec2::splat(keep);
+        sc.segs.clear();
+        if let Some((x0, y0, x1, y1)) = self.grid.range(lo - pad, hi + pad) {
+            for cy in y0..y1 + 1 {
+                for cx in x0..x1 + 1 {
+                    for &k in self.grid.segments_at(cx, cy) {
+                        if sc.stamp[k as usize] != f {
+                            sc.stamp[k as usize] = f;
+                            sc.segs.push(k);
                         }
                     }
                 }
-                let mut near = false;
-                let mut meets = false;
-                for &k in &segs {
-                    let (a, b) = segments[k as usize];
-                    if a.max(b).cmplt(lo - pad).any() || a.min(b).cmpgt(hi + pad).any() {
-                        continue;
-                    }
-                    if segment_meets_triangle(a, b, s) {
-                        (near, meets) = (true, true);
-                        break;
-                    }
-                    near = near || segment_near_triangle(a, b, s, keep);
-                }
-                if near {
-                    out.push((f, meets));
-                }
             }
-            out
-        })
-        .collect();
-    chunks.into_iter().flatten().collect()
+        }
+        let mut near = false;
+        for &k in &sc.segs {
+            let (a, b) = self.segments[k as usize];
+            if a.max(b).cmplt(lo - pad).any() || a.min(b).cmpgt(hi + pad).any() {
+                continue;
+            }
+            if segment_meets_triangle(a, b, s) {
+                return Some(true);
+            }
+            near = near || segment_near_triangle(a, b, s, keep);
+        }
+        near.then_some(false)
+    }
 }
 
 /// Whether a segment and a triangle on screen meet (touching counts), f64.

@@ -346,13 +346,13 @@ pub(crate) fn elem_faces(region: &Region, e: Elem, out: &mut Vec<u32>) {
                 .filter(|&f| region.cuttable[f as usize]),
         ),
         Elem::E { edge, .. } => {
-            let mut ef: Vec<u32> = region.edge_faces[edge as usize]
-                .iter()
-                .copied()
-                .filter(|&f| f != NONE && region.cuttable[f as usize])
-                .collect();
-            ef.sort_unstable();
-            out.extend(ef);
+            out.extend(
+                region.edge_faces[edge as usize]
+                    .iter()
+                    .copied()
+                    .filter(|&f| f != NONE && region.cuttable[f as usize]),
+            );
+            out.sort_unstable();
         }
         Elem::P { face, .. } => out.push(face),
     }

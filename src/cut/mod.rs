@@ -156,16 +156,14 @@ fn plan<'a>(
     let (grid, clipped, mut region, l_px, l_world, degenerate_met) = loop {
         let grid = CellGrid::new(&segs, margin, margin.max(l_guess));
         let codes = candidates::vertex_codes(tm.positions(), &proj, &grid);
-        let (cands, clipped) = candidates::candidate_faces(tm.corners(), &codes, &grid);
-        let kept = candidates::refine(
-            tm.positions(),
-            tm.corners(),
-            &cands,
-            &proj,
-            &grid,
-            &segs,
+        let band = candidates::Band {
+            positions: tm.positions(),
+            proj: &proj,
+            grid: &grid,
+            segments: &segs,
             margin,
-        );
+        };
+        let (kept, clipped) = candidates::candidate_faces(tm.corners(), &codes, &band);
         let region = Region::build(tm, &kept, &grid, &segs, margin, &proj, options.mode)?;
         let (l_px, l_world, degenerate_met) = region.mean_edge_length();
         if max_ratio * l_px <= margin {
@@ -254,8 +252,8 @@ fn plan<'a>(
     // run. (Few segments per box: sort and dedup beat a stamp array, and keep this `Sync`.)
     let near = |lo: DVec2, hi: DVec2, out: &mut Vec<u32>| {
         if let Some((x0, y0, x1, y1)) = grid.range(lo, hi) {
-            for cy in y0..=y1 {
-                for cx in x0..=x1 {
+            for cy in y0..y1 + 1 {
+                for cx in x0..x1 + 1 {
                     out.extend_from_slice(grid.segments_at(cx, cy));
                 }
             }

@@ -67,7 +67,7 @@ impl Region {
     }
 
     /// `kept`: (triangle, whether the stroke meets it), ascending; `margin`: the distance
-    /// within which [`super::candidates::refine`] kept every face.
+    /// within which [`super::candidates::candidate_faces`] kept every face.
     pub fn build(
         mesh: &PolyMesh,
         kept: &[(u32, bool)],

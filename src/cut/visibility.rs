@@ -79,7 +79,7 @@ impl FaceBuckets {
             n += 1;
         }
         let mean = if n > 0 { size / n as f64 } else { 0.0 };
-        let cell = mean
+        let cell = (2.0 * mean)
             .max(((ext.x * ext.y) / (1u64 << 22) as f64).sqrt())
             .max(ext.x.max(ext.y) / 8192.0)
             .max(1e-9);
@@ -123,8 +123,8 @@ impl FaceBuckets {
         sort_by_key(&mut order);
         let mut start = vec![0u32; ncell + 1];
         for &((x0, y0, x1, y1), _) in &boxes {
-            for cy in y0..=y1 {
-                for cx in x0..=x1 {
+            for cy in y0..y1 + 1 {
+                for cx in x0..x1 + 1 {
                     start[(cy * nx + cx) as usize + 1] += 1;
                 }
             }
@@ -136,8 +136,8 @@ impl FaceBuckets {
         let mut list = vec![Entry::default(); start[ncell] as usize];
         for &(_, i) in &order {
             let ((x0, y0, x1, y1), entry) = boxes[i as usize];
-            for cy in y0..=y1 {
-                for cx in x0..=x1 {
+            for cy in y0..y1 + 1 {
+                for cx in x0..x1 + 1 {
                     let c = (cy * nx + cx) as usize;
                     list[fill[c] as usize] = entry;
                     fill[c] += 1;

@@ -318,8 +318,8 @@ pub(crate) fn candidate_faces(
     corners: &[VertexId],
     codes: &[u32],
     band: &Band<'_>,
-) -> (Vec<(u32, bool)>, Vec<u32>) {
-    let chunks: Vec<(Vec<(u32, bool)>, Vec<u32>)> = corners
+) -> (Kept, Vec<u32>) {
+    let chunks: Vec<(Kept, Vec<u32>)> = corners
         .par_chunks(3 * CHUNK)
         .enumerate()
         .map(|(ci, chunk)| {
@@ -362,6 +362,9 @@ pub(crate) fn candidate_faces(
     }
     (keep, clipped)
 }
+
+/// Kept faces with whether the stroke meets each.
+type Kept = Vec<(u32, bool)>;
 
 /// Per-chunk scratch of [`Band::near_face`]: the segments gathered for the current face,
 /// and the face that last gathered each segment (no sort per face).

@@ -85,6 +85,9 @@ pub(crate) fn find_occurrences(
         bary: [0.0; 3],
         visible: true,
     };
+    let tpar = along(pts, seg_range);
+    let subs =
+        |si: u32, lo: DVec2, hi: DVec2| sub_range(pts, &tpar, seg_range[si as usize], lo, hi);
     // Edges in fixed chunks on rayon, concatenated in edge order (thread-count independent).
     let chunks: Vec<Vec<Occ>> = region
         .edges
@@ -103,8 +106,7 @@ pub(crate) fn find_occurrences(
                 near.clear();
                 prepared_segments_near(a.min(b), a.max(b), &mut near);
                 for &si in near.iter() {
-                    let (j0, j1) = seg_range[si as usize];
-                    for k in j0..j1 {
+                    for k in subs(si, a.min(b), a.max(b)) {
                         let (p, q) = (pts[k as usize], pts[k as usize + 1]);
                         // Boxes apart: nothing to meet (exact: comparisons only).
                         if p.x.max(q.x) < a.x.min(b.x)
@@ -193,8 +195,7 @@ pub(crate) fn find_occurrences(
                 near.clear();
                 prepared_segments_near(x, x, &mut near);
                 for &si in near.iter() {
-                    let (j0, j1) = seg_range[si as usize];
-                    for k in j0..j1 {
+                    for k in subs(si, x, x) {
                         let (p, q) = (pts[k as usize], pts[k as usize + 1]);
                         if on_segment(p, q, x) && orient(p, q, x) == 0.0 {
                             let key = if x == p {
@@ -279,6 +280,60 @@ pub(crate) fn find_occurrences(
         occ.retain(|o| !matches!(o.elem, Elem::P { .. }) || o.visible);
     }
     occ
+}
+
+/// Each polyline point's parameter along its prepared segment (the points a segment snap
+/// inserted lie on it, in order), made non-decreasing against rounding.
+fn along(pts: &[DVec2], seg_range: &[(u32, u32)]) -> Vec<f64> {
+    let mut t = vec![0.0; pts.len()];
+    for &(j0, j1) in seg_range {
+        let (p, d) = (pts[j0 as usize], pts[j1 as usize] - pts[j0 as usize]);
+        let len2 = d.length_squared();
+        let mut prev = 0.0f64;
+        for j in j0 + 1..j1 {
+            let x = if len2 > 0.0 {
+                (pts[j as usize] - p).dot(d) / len2
+            } else {
+                0.0
+            };
+            prev = prev.max(x);
+            t[j as usize] = prev;
+        }
+    }
+    t
+}
+
+/// The polyline segments of prepared segment `(j0, j1)` that can meet the box `lo..hi`: those
+/// whose parameter span overlaps the box's on the prepared segment, with a neighbour each
+/// side for rounding (a superset: the exact tests decide). Few per box where snaps split the
+/// segment many times (a box test each cost more than the rest of the edge loop).
+fn sub_range(
+    pts: &[DVec2],
+    tpar: &[f64],
+    (j0, j1): (u32, u32),
+    lo: DVec2,
+    hi: DVec2,
+) -> std::ops::Range<u32> {
+    if j1 - j0 <= 3 {
+        return j0..j1;
+    }
+    let (p, d) = (pts[j0 as usize], pts[j1 as usize] - pts[j0 as usize]);
+    let (mut t0, mut t1) = (0.0f64, 1.0f64);
+    for (pa, da, l, h) in [(p.x, d.x, lo.x, hi.x), (p.y, d.y, lo.y, hi.y)] {
+        if da != 0.0 {
+            let (u, v) = ((l - pa) / da, (h - pa) / da);
+            t0 = t0.max(u.min(v));
+            t1 = t1.min(u.max(v));
+        }
+    }
+    const EPS: f64 = 1e-9;
+    // Segment j0 + i starts at ts[i] and ends at ts[i + 1] (1 for the last).
+    let ts = &tpar[j0 as usize..j1 as usize];
+    let first = ts.partition_point(|&t| t < t0 - EPS);
+    let past = ts.partition_point(|&t| t <= t1 + EPS);
+    let start = j0 + first.saturating_sub(2) as u32;
+    let end = (j0 + past as u32 + 1).min(j1);
+    start..end.max(start)
 }
 
 /// The edge of face `lf` nearest to `s` if closer than `reach` with its foot strictly inside

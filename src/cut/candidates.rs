@@ -270,11 +270,17 @@ pub(crate) fn point_segment_distance(p: DVec2, a: DVec2, b: DVec2) -> f64 {
 pub(crate) fn vertex_codes(positions: &[DVec3], proj: &Projector, grid: &CellGrid) -> Vec<u32> {
     let rows = proj.cell_rows(grid.origin, grid.inv_cell);
     let mut codes: Vec<u32> = crate::mem::with_capacity(positions.len());
-    positions
-        .par_iter()
-        .with_min_len(CHUNK)
-        .map(|&p| grid.code(&rows, p))
-        .collect_into_vec(&mut codes);
+    // Chunks written in place (a rayon `map` + `collect` per element cost a tenth more).
+    codes.spare_capacity_mut()[..positions.len()]
+        .par_chunks_mut(CHUNK)
+        .zip(positions.par_chunks(CHUNK))
+        .for_each(|(out, ps)| {
+            for (o, p) in out.iter_mut().zip(ps) {
+                o.write(grid.code(&rows, *p));
+            }
+        });
+    // SAFETY: every one of the first `positions.len()` elements was written above.
+    unsafe { codes.set_len(positions.len()) };
     codes
 }
 

@@ -1797,3 +1797,53 @@ fn vertex_original_names_the_vertex_each_opening_copy_duplicates() {
         .enumerate()
         .all(|(i, v)| v.idx() == i));
 }
+
+#[test]
+fn snapping_that_uncovers_a_hidden_sheet_does_not_cut_it() {
+    // Two sheets exactly one above the other in a top view: the lower one is wholly hidden.
+    // Strokes entering from off the mesh snap top boundary vertices inwards, which uncovers
+    // a sliver of the lower sheet's border; the user never saw it, so it stays uncut.
+    for m in [3u32, 6, 12] {
+        let (two, n, nv) = two_sheets(m);
+        let v = top_view(-0.5, m as f64 + 0.5, -0.5, m as f64 + 0.5, 0.02);
+        let w = (m as f64 + 1.0) / 0.02;
+        for phase in 0..40 {
+            let pts: Vec<(f64, f64)> = if phase % 2 == 0 {
+                (0..40)
+                    .map(|i| {
+                        let t = i as f64 / 39.0;
+                        let y = 0.5 + 0.2 * (t * 9.0 + phase as f64 * 0.37).sin();
+                        ((0.1 + 0.8 * t) * w, y * w)
+                    })
+                    .collect()
+            } else {
+                let a = phase as f64 * 0.13;
+                let (c, s) = (0.45 * a.cos(), 0.45 * a.sin());
+                vec![
+                    ((0.5 - c) * w, (0.5 - s) * w),
+                    ((0.5 + c) * w, (0.5 + s) * w),
+                ]
+            };
+            let vis = cut(&two, &pts, &v, &CutOptions::default());
+            check_valid(&two, &vis);
+            let lower_split: Vec<u32> = pieces_per_face(&vis)
+                .iter()
+                .filter(|(f, &c)| f.0 as usize >= n && c > 1)
+                .map(|(f, _)| f.0)
+                .collect();
+            assert!(
+                lower_split.is_empty(),
+                "m {m}, stroke {phase}: hidden faces split: {lower_split:?}"
+            );
+            assert!(vis
+                .report
+                .paths
+                .iter()
+                .all(|p| p.vertices.iter().all(|x| x.0 < nv || x.0 >= 2 * nv)));
+            assert!(
+                !vis.report.paths.is_empty(),
+                "m {m}, stroke {phase}: no cut"
+            );
+        }
+    }
+}

@@ -19,7 +19,7 @@ use rayon::prelude::*;
 use super::geom::{in_triangle, on_segment, orient};
 use super::region::{Region, NONE};
 use super::snap::Polyline;
-use super::visibility::FaceBuckets;
+use super::visibility::{Before, FaceBuckets};
 
 /// A model element the stroke meets.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
@@ -61,7 +61,8 @@ pub(crate) fn canon(line: &Polyline, closed: bool, j: u32) -> u32 {
 }
 
 /// All meetings of the stroke with elements of cuttable faces, sorted by key.
-/// `seg_range[si]` = the polyline segments inside prepared segment `si`.
+/// `seg_range[si]` = the polyline segments inside prepared segment `si`; `before`, in
+/// visible-only mode, the region before snapping.
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn find_occurrences(
     region: &Region,
@@ -71,10 +72,11 @@ pub(crate) fn find_occurrences(
     seg_range: &[(u32, u32)],
     piece_ends: &[u32],
     buckets: &FaceBuckets,
-    visible_only: bool,
+    before: Option<&Before>,
     end_snap: f64,
     ends_moved: &mut Vec<u32>,
 ) -> Vec<Occ> {
+    let visible_only = before.is_some();
     let pts = &line.pts;
     let last = (pts.len() - 1) as u32;
     let mk = |key: (u32, f64), elem: Elem, screen: DVec2| Occ {
@@ -274,7 +276,9 @@ pub(crate) fn find_occurrences(
     if visible_only {
         occ.par_iter_mut().with_min_len(64).for_each(|o| {
             let (z, x) = elem_depth(region, o);
-            o.visible = !buckets.hidden(region, o.screen, z, x);
+            // A point snapping did not move must also have been seen before it.
+            let still = before.filter(|b| !elem_moved(region, b, o.elem));
+            o.visible = !buckets.hidden(region, o.screen, z, x, still);
         });
         // In visible-only mode a piece end inside faces belongs to the nearest visible one.
         occ.retain(|o| !matches!(o.elem, Elem::P { .. }) || o.visible);
@@ -363,6 +367,15 @@ fn near_edge(region: &Region, lf: u32, s: DVec2, reach: f64) -> Option<(u32, f64
         }
     }
     best.map(|(_, e, t, foot)| (e, t, foot))
+}
+
+/// Whether snapping moved the point of an element (a vertex, an edge end, a face corner).
+fn elem_moved(region: &Region, b: &Before, e: Elem) -> bool {
+    match e {
+        Elem::V(v) => b.moved(v),
+        Elem::E { edge, .. } => region.edges[edge as usize].iter().any(|&v| b.moved(v)),
+        Elem::P { face, .. } => region.tri[face as usize].iter().any(|&v| b.moved(v)),
+    }
 }
 
 /// NDC depth and world position of an occurrence (perspective-correct, spec §4 step 5).

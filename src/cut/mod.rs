@@ -91,7 +91,7 @@ use crate::mesh::{FaceId, PolyMesh, VertexId};
 use candidates::CellGrid;
 use crossings::{Elem, Occ};
 use region::{Region, NONE};
-use visibility::FaceBuckets;
+use visibility::{Before, FaceBuckets};
 
 /// Cuts `mesh` along `stroke` drawn over `view` (seed 002; spec §4). Never changes `mesh`.
 ///
@@ -206,7 +206,7 @@ fn plan<'a>(
                 }
                 let seen = region.seen[v].expect("allowed vertices are projectable");
                 !near_stroke(seen.screen)
-                    || !buckets.hidden(&region, seen.screen, seen.z, region.pos[v])
+                    || !buckets.hidden(&region, seen.screen, seen.z, region.pos[v], None)
             })
             .collect()
     } else {
@@ -221,6 +221,7 @@ fn plan<'a>(
     } else {
         allowed
     };
+    let mut before = visible_only.then(|| Before::new(&region));
     let snapped = snap::snap(
         &mut region,
         &allowed,
@@ -231,6 +232,9 @@ fn plan<'a>(
         options,
         &proj,
     );
+    if let Some(b) = before.as_mut() {
+        b.mark_moved(snapped.moves.iter().map(|m| m.0));
+    }
     let line = &snapped.line;
     let last = line.pts.len() as u32 - 1;
 
@@ -270,7 +274,7 @@ fn plan<'a>(
         &snapped.seg_range,
         &bounds,
         &buckets,
-        visible_only,
+        before.as_ref(),
         options.snap_segment_ratio * l_px / 3.0,
         &mut ends_moved,
     );

@@ -55,15 +55,7 @@ impl Region {
     /// NDC depth and world point at screen barycentrics `l` of local face `f`: depth is
     /// affine on screen, the world point perspective-correct (weights over clip w).
     pub fn lift(&self, f: u32, l: [f64; 3]) -> (f64, DVec3) {
-        let t = self.tri[f as usize];
-        let seen = t.map(|v| self.seen[v as usize].expect("a candidate face is projectable"));
-        let z = l[0] * seen[0].z + l[1] * seen[1].z + l[2] * seen[2].z;
-        let m = [l[0] / seen[0].w, l[1] / seen[1].w, l[2] / seen[2].w];
-        let x = (self.pos[t[0] as usize] * m[0]
-            + self.pos[t[1] as usize] * m[1]
-            + self.pos[t[2] as usize] * m[2])
-            / (m[0] + m[1] + m[2]);
-        (z, x)
+        lift_with(&self.seen, &self.pos, self.tri[f as usize], l)
     }
 
     /// `kept`: (triangle, whether the stroke meets it), ascending; `margin`: the distance
@@ -187,6 +179,21 @@ impl Region {
             (sum_px / n as f64, sum_w / n as f64, degenerate_met)
         }
     }
+}
+
+/// [`Region::lift`] on triangle `t` of vertices seen as `seen` at `pos`.
+pub(crate) fn lift_with(
+    seen: &[Option<Seen>],
+    pos: &[DVec3],
+    t: [u32; 3],
+    l: [f64; 3],
+) -> (f64, DVec3) {
+    let seen = t.map(|v| seen[v as usize].expect("a candidate face is projectable"));
+    let z = l[0] * seen[0].z + l[1] * seen[1].z + l[2] * seen[2].z;
+    let m = [l[0] / seen[0].w, l[1] / seen[1].w, l[2] / seen[2].w];
+    let x = (pos[t[0] as usize] * m[0] + pos[t[1] as usize] * m[1] + pos[t[2] as usize] * m[2])
+        / (m[0] + m[1] + m[2]);
+    (z, x)
 }
 
 /// The distinct vertices of `faces` (global ids, ascending) and each face's corners as

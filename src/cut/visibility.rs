@@ -16,7 +16,8 @@ use glam::{DVec2, DVec3};
 use super::candidates::{cell_of, CellGrid};
 use super::geom::{barycentric, in_triangle};
 use super::radix::{f32_key, sort_by_key};
-use super::region::Region;
+use super::region::{lift_with, Region};
+use super::view::Seen;
 
 pub(crate) struct FaceBuckets {
     origin: DVec2,
@@ -178,16 +179,19 @@ impl FaceBuckets {
     }
 
     /// Whether some candidate face lies in front of world point `x` (screen `s`, NDC depth
-    /// `z`) by more than the depth tolerance.
-    pub fn hidden(&self, r: &Region, s: DVec2, z: f64, x: DVec3) -> bool {
+    /// `z`) by more than the depth tolerance; with `before`, for a point that snapping did
+    /// not move, also whether the faces hid it as they were before snapping (so a snap that
+    /// pulls an occluder aside does not expose what the user could not see).
+    pub fn hidden(&self, r: &Region, s: DVec2, z: f64, x: DVec3, before: Option<&Before>) -> bool {
         for e in self.entries_at(s) {
             // Every face from here on has all its corners behind the point: NDC depth is
-            // affine on a screen triangle, so none of them is nearer at `s`.
+            // affine on a screen triangle, and snapping keeps depth, so none of them is
+            // nearer at `s`, before or after.
             if e.near as f64 > z {
                 break;
             }
-            // Outside the face's (outward-rounded) box is outside the face; most bucket
-            // entries end here, before three orientation tests.
+            // Outside the face's (outward-rounded, grown by the snap slack) box is outside
+            // the face, before and after snapping; most bucket entries end here.
             if s.x < e.lo[0] as f64
                 || s.y < e.lo[1] as f64
                 || s.x > e.hi[0] as f64
@@ -195,20 +199,75 @@ impl FaceBuckets {
             {
                 continue;
             }
-            let lf = e.face;
-            let [a, b, cc] = r.face_screen(lf);
-            if in_triangle(a, b, cc, r.sign[lf as usize], s).is_none() {
-                continue;
-            }
-            let (zf, y) = r.lift(lf, barycentric(a, b, cc, s));
-            if zf >= z {
-                continue;
-            }
-            if (y - x).length() > self.eps_world {
+            let (t, sign) = (r.tri[e.face as usize], r.sign[e.face as usize]);
+            if self.hides(t, sign, &r.seen, &r.pos, s, z, x) {
                 return true;
+            }
+            if let Some(b) = before {
+                if t.iter().any(|&v| b.moved[v as usize])
+                    && self.hides(t, sign, &b.seen, &b.pos, s, z, x)
+                {
+                    return true;
+                }
             }
         }
         false
+    }
+
+    /// Whether triangle `t` (orientation `sign`), its vertices seen as `seen` at `pos`, holds
+    /// screen point `s` at a depth nearer than `z`, and away from world point `x`.
+    #[allow(clippy::too_many_arguments)]
+    fn hides(
+        &self,
+        t: [u32; 3],
+        sign: f64,
+        seen: &[Option<Seen>],
+        pos: &[DVec3],
+        s: DVec2,
+        z: f64,
+        x: DVec3,
+    ) -> bool {
+        let [a, b, c] = t.map(|v| {
+            seen[v as usize]
+                .expect("a bucketed face is projectable")
+                .screen
+        });
+        if in_triangle(a, b, c, sign, s).is_none() {
+            return false;
+        }
+        let (zf, y) = lift_with(seen, pos, t, barycentric(a, b, c, s));
+        zf < z && (y - x).length() > self.eps_world
+    }
+}
+
+/// The region's vertices as they were before snapping, and which ones moved.
+pub(crate) struct Before {
+    seen: Vec<Option<Seen>>,
+    pos: Vec<DVec3>,
+    moved: Vec<bool>,
+}
+
+impl Before {
+    /// The region as it is now (call before snapping).
+    pub fn new(r: &Region) -> Self {
+        Before {
+            seen: r.seen.clone(),
+            pos: r.pos.clone(),
+            moved: vec![false; r.pos.len()],
+        }
+    }
+
+    /// Records the vertices snapping moved.
+    pub fn mark_moved(&mut self, moved: impl IntoIterator<Item = u32>) {
+        for v in moved {
+            self.moved[v as usize] = true;
+        }
+    }
+
+    /// Whether local vertex `v` moved.
+    #[inline]
+    pub fn moved(&self, v: u32) -> bool {
+        self.moved[v as usize]
     }
 }
 

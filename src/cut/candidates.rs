@@ -72,6 +72,7 @@ impl CellGrid {
         let nx = ((ext.x / cell).ceil() as i32).max(1);
         let ny = ((ext.y / cell).ceil() as i32).max(1);
         let ncell = (nx * ny) as usize;
+        let inv_cell = 1.0 / cell;
         let mut marked = vec![false; ncell];
         let mut pairs: Vec<(u32, u32)> = Vec::new();
         let half_diag = cell * std::f64::consts::FRAC_1_SQRT_2;
@@ -80,8 +81,8 @@ impl CellGrid {
                 a.min(b) - DVec2::splat(margin),
                 a.max(b) + DVec2::splat(margin),
             );
-            let (x0, y0) = cell_of(lo, 1.0 / cell, smin);
-            let (x1, y1) = cell_of(lo, 1.0 / cell, smax);
+            let (x0, y0) = cell_of(lo, inv_cell, smin);
+            let (x1, y1) = cell_of(lo, inv_cell, smax);
             for cy in y0.max(0)..y1.min(ny - 1) + 1 {
                 for cx in x0.max(0)..x1.min(nx - 1) + 1 {
                     let centre = lo + DVec2::new(cx as f64 + 0.5, cy as f64 + 0.5) * cell;
@@ -126,7 +127,7 @@ impl CellGrid {
             cell,
             nx,
             ny,
-            inv_cell: 1.0 / cell,
+            inv_cell,
             marked,
             near,
             seg_start,

@@ -3,10 +3,15 @@
 //!
 //! Every face that can hide a point under the stroke projects onto that point, so it is in
 //! the cut region ([`super::candidates`]): the ray is tested against the region's faces only,
-//! bucketed by screen box in a uniform grid of about one face per cell (for a ray through a
-//! single pixel position, a 2D bucket grid does what a BVH would). Written here because it is
-//! a hundred lines, and building a BVH (`parry3d`'s or `rstar`'s) over the region per cut
-//! would cost more than the queries; neither is among the approved crates either.
+//! bucketed by screen box in a uniform grid with cells about two faces wide, each bucket
+//! nearest first so a ray stops at the first face wholly behind its point (for a ray through
+//! a single pixel position, a 2D bucket grid does what a BVH would). Written here because it
+//! is a hundred lines, and building a BVH (`parry3d`'s or `rstar`'s) over the region per cut
+//! would cost more than the queries.
+//!
+//! Snapping moves vertices after the user saw the mesh: a point it did not move is seen only
+//! if it was seen both before and after (katachi's gap-fill), so a snapped occluder that
+//! slides aside does not expose what was hidden.
 //!
 //! Faces with a vertex behind the eye are not tested as occluders (they have no screen
 //! triangle to bucket); a face that close to the camera rarely sits in front of a stroke.
@@ -41,8 +46,8 @@ struct Entry {
     hi: [f32; 2],
 }
 
-/// `x` rounded down to f32: 2e-7 relative (beyond the half ulp of rounding to nearest)
-/// plus 1e-30 below it first. Branch-free; boxes grow by a few ten-millionths.
+/// `x` rounded down to f32: lowered first by 2e-7 of itself (more than rounding to nearest
+/// can add back) and by 1e-30 (for 0). Branch-free; a box grows by a few ten-millionths.
 #[inline]
 fn down(x: f64) -> f32 {
     (x - x.abs() * 2e-7 - 1e-30) as f32
@@ -57,7 +62,7 @@ impl FaceBuckets {
     /// Buckets of the region's faces; each face's screen box is grown by `slack` pixels so
     /// the buckets stay valid while vertices move that far (snapping).
     pub fn new(region: &Region, grid: &CellGrid, depth_eps_rel: f64, slack: f64) -> Self {
-        // Buckets over the stroke grid's area, about one face wide: the region's faces lie
+        // Buckets over the stroke grid's area, about two faces wide: the region's faces lie
         // in a band along the stroke, so sizing cells by area per face would put dozens of
         // faces in each (the stroke grid's cells are too coarse for point queries too).
         let (origin, ext) = (

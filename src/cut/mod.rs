@@ -19,7 +19,9 @@
 //! Gap-fills (the paper leaves these open; the spec's choices unless noted):
 //! - L is the mean *screen* edge length of the faces the stroke meets (spec §4).
 //! - Visible-only: front-facing faces, and a crossing is seen when no face under it is nearer
-//!   by more than `depth_eps_rel` × the cut region's diagonal (spec §3: per crossing, a ray).
+//!   by more than `depth_eps_rel` × the cut region's diagonal (spec §3: per crossing, a ray);
+//!   a crossing that snapping did not move must also have been seen before snapping, so a
+//!   snapped occluder sliding aside exposes nothing (katachi's choice).
 //! - Second normalization runs to a fixed point, faces in ascending id (spec §4 step 6); the
 //!   stretches of one piece that follow each other along the stroke (split by a silhouette
 //!   or a hole) are normalized together, so a face left and re-entered is still crossed once

@@ -390,11 +390,11 @@ impl Band<'_> {
     /// hide a crossing. A face with a corner behind the eye is kept (never cut).
     fn near_face(&self, f: u32, t: [VertexId; 3], sc: &mut Scratch) -> Option<bool> {
         let keep = self.margin * (1.0 + 1e-9) + 1e-12;
-        let seen = t.map(|v| self.proj.see(self.positions[v.idx()]));
+        let seen = t.map(|v| self.proj.screen_of(self.positions[v.idx()]));
         let [Some(s0), Some(s1), Some(s2)] = seen else {
             return Some(false);
         };
-        let s = [s0.screen, s1.screen, s2.screen];
+        let s = [s0, s1, s2];
         let (lo, hi) = (s[0].min(s[1]).min(s[2]), s[0].max(s[1]).max(s[2]));
         let pad = DVec2::splat(keep);
         sc.segs.clear();

@@ -166,6 +166,19 @@ impl Projector {
         })
     }
 
+    /// [`Projector::see`]'s screen position alone, without the depth row (the same products
+    /// summed in the same order, so the same bits).
+    #[inline]
+    pub fn screen_of(&self, p: DVec3) -> Option<DVec2> {
+        let h = p.extend(1.0);
+        let w = self.vp.row(3).dot(h);
+        if w.is_nan() || w <= 0.0 {
+            return None;
+        }
+        let inv_w = 1.0 / w;
+        Some(self.ndc_to_screen(self.vp.row(0).dot(h) * inv_w, self.vp.row(1).dot(h) * inv_w))
+    }
+
     /// The world point seen at pixel `s` with clip w `w` and NDC depth `z`: "move in the
     /// plane parallel to the screen" (seed 002 §3.2; spec §2: keep clip w and z_ndc).
     pub fn unproject(&self, s: DVec2, w: f64, z: f64) -> DVec3 {

@@ -187,3 +187,38 @@ impl Projector {
         h.truncate() / h.w
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::{Projector, View};
+    use glam::{DMat4, DVec3};
+
+    #[test]
+    fn screen_of_is_see_without_depth() {
+        let views = [
+            DMat4::perspective_rh_gl(0.9, 1.6, 0.01, 100.0)
+                * DMat4::look_at_rh(DVec3::new(3.0, -7.0, 5.0), DVec3::ZERO, DVec3::Z),
+            DMat4::orthographic_rh_gl(-2.0, 3.0, -1.0, 2.5, 0.1, 50.0)
+                * DMat4::look_at_rh(DVec3::new(0.3, 0.2, 9.0), DVec3::ZERO, DVec3::Y),
+        ];
+        for vp in views {
+            let p = Projector::new(&View::new(vp, [10.0, 20.0, 1280.0, 720.0])).unwrap();
+            let mut x = 0x2545_f491_4f6c_dd1du64;
+            for _ in 0..10_000 {
+                let mut r = || {
+                    x ^= x << 13;
+                    x ^= x >> 7;
+                    x ^= x << 17;
+                    (x >> 11) as f64 / (1u64 << 53) as f64 * 20.0 - 10.0
+                };
+                let q = DVec3::new(r(), r(), r());
+                let s = p.see(q).map(|s| s.screen);
+                assert_eq!(
+                    p.screen_of(q).map(|v| v.to_array().map(f64::to_bits)),
+                    s.map(|v| v.to_array().map(f64::to_bits)),
+                    "{q}"
+                );
+            }
+        }
+    }
+}

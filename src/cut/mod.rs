@@ -312,8 +312,13 @@ fn plan<'a>(
                 None => runs.push(chain.occ),
             }
         }
-        for run in runs {
-            for nz in normalize::normalize(&region, &occ, &run) {
+        // Runs are normalized apart (read-only, so on rayon), then placed in order.
+        let normalized: Vec<Vec<normalize::Normalized>> = runs
+            .par_iter()
+            .map(|run| normalize::normalize(&region, &occ, run))
+            .collect();
+        for nzs in normalized {
+            for nz in nzs {
                 let mut verts: Vec<u32> = Vec::with_capacity(nz.occ.len());
                 let mut faces = Vec::with_capacity(nz.faces.len());
                 for (k, &o) in nz.occ.iter().enumerate() {

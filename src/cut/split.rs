@@ -103,7 +103,10 @@ impl<'r> Splitter<'r> {
 
     fn subs_mut(&mut self, lf: u32) -> &mut Vec<[u32; 3]> {
         if self.subs[lf as usize].is_none() {
-            self.subs[lf as usize] = Some(vec![self.r.tri[lf as usize]]);
+            // Room for the usual three or four pieces without regrowing.
+            let mut subs = Vec::with_capacity(4);
+            subs.push(self.r.tri[lf as usize]);
+            self.subs[lf as usize] = Some(subs);
             self.touched.push(lf);
         }
         self.subs[lf as usize].as_mut().expect("just set")

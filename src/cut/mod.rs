@@ -254,18 +254,20 @@ fn plan<'a>(
     }
     let pieces: Vec<(u32, u32)> = bounds.windows(2).map(|w| (w[0], w[1])).collect();
 
-    // Segments near a box; ascending, so the occurrences come out in the same order on every
-    // run. (Few segments per box: sort and dedup beat a stamp array, and keep this `Sync`.)
+    // Segments near a box, each once, in cell order (deterministic; the occurrences are
+    // sorted afterwards). A box holds a few: a linear check beats sorting.
     let near = |lo: DVec2, hi: DVec2, out: &mut Vec<u32>| {
         if let Some((x0, y0, x1, y1)) = grid.range(lo, hi) {
             for cy in y0..y1 + 1 {
                 for cx in x0..x1 + 1 {
-                    out.extend_from_slice(grid.segments_at(cx, cy));
+                    for &k in grid.segments_at(cx, cy) {
+                        if !out.contains(&k) {
+                            out.push(k);
+                        }
+                    }
                 }
             }
         }
-        out.sort_unstable();
-        out.dedup();
     };
     let mut ends_moved: Vec<u32> = Vec::new();
     let occ = crossings::find_occurrences(

@@ -327,6 +327,36 @@ fn cut_command() {
 }
 
 #[test]
+fn cut_snap_and_corner_flags() {
+    let d = tmp("cut-snap");
+    let stroke = d.join("stroke.json");
+    let out = d.join("cut.obj");
+    let report = d.join("report.json");
+    stroke_file(&stroke, [1.0, 0.8, 0.6], [10.0, 150.0], [390.0, 260.0], "");
+    let moved = |flags: &[&str]| {
+        let mut f = vec!["--report", report.to_str().unwrap()];
+        f.extend_from_slice(flags);
+        let o = cut_chamfer_cube(&out, &stroke, &f);
+        assert!(o.status.success(), "{}", stderr(&o));
+        read_json(&report)["moved"].as_array().unwrap().len()
+    };
+    assert!(moved(&[]) > 0, "the default snaps move vertices");
+    assert_eq!(moved(&["--snap-vertex", "0", "--snap-segment", "0"]), 0);
+    // Out of its domain: a typed error naming the option, nothing written.
+    std::fs::remove_file(&out).unwrap();
+    for (flag, option) in [
+        ("--snap-vertex=0.7", "snap_vertex_ratio"),
+        ("--snap-segment=-1", "snap_segment_ratio"),
+        ("--corner-angle=200", "corner_angle_deg"),
+    ] {
+        let o = cut_chamfer_cube(&out, &stroke, &[flag]);
+        assert_eq!(o.status.code(), Some(2), "{flag}");
+        assert!(stderr(&o).contains(option), "{}", stderr(&o));
+        assert!(!out.exists());
+    }
+}
+
+#[test]
 fn cut_stroke_file_errors_name_the_field() {
     let d = tmp("cut-bad");
     let out = d.join("out.obj");

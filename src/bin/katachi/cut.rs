@@ -1,4 +1,5 @@
-//! `katachi cut IN OUT --stroke FILE.json [--mode M] [--open] [--report REPORT.json]`: the
+//! `katachi cut IN OUT --stroke FILE.json [--mode M] [--open] [--report REPORT.json]
+//! [--snap-vertex R] [--snap-segment R] [--corner-angle D]`: the
 //! stroke cut (seed 002) from the command line.
 //!
 //! The stroke file holds what a front end has when the user draws:
@@ -71,6 +72,18 @@ pub struct Args {
     /// Also write the full report (moves, dropped points, paths, ...) as JSON.
     #[arg(long, value_name = "REPORT.json")]
     report: Option<PathBuf>,
+    /// Snap a vertex to a stroke point closer than this × L, the mean screen edge length
+    /// (seed 002 §3.2), in [0, 0.5]; 0 turns it off.
+    #[arg(long, value_name = "RATIO", default_value_t = CutOptions::default().snap_vertex_ratio)]
+    snap_vertex: f64,
+    /// Snap a vertex onto a stroke segment closer than this × L (seed 002 §3.2, Fig. 4), in
+    /// [0, 0.5]; 0 turns it off.
+    #[arg(long, value_name = "RATIO", default_value_t = CutOptions::default().snap_segment_ratio)]
+    snap_segment: f64,
+    /// Split the stroke where it turns by more than this many degrees (seed 002 §3.4), in
+    /// [0, 180].
+    #[arg(long, value_name = "DEGREES", default_value_t = CutOptions::default().corner_angle_deg)]
+    corner_angle: f64,
 }
 
 /// What a stroke file holds.
@@ -232,15 +245,20 @@ fn write_text(path: &Path, text: &str) -> Result<(), Error> {
     })
 }
 
-/// Cuts `mesh` as the stroke file says, with `mode` and `open` already decided.
-pub fn cut(mesh: &PolyMesh, file: &StrokeFile, mode: Mode, open: bool) -> Result<CutOutput, Error> {
-    let mut options = CutOptions::with_mode(mode.kernel());
-    options.open = open;
+/// The kernel's options for `mode` and `open`, the rest at their defaults.
+pub fn options(mode: Mode, open: bool) -> CutOptions {
+    let mut o = CutOptions::with_mode(mode.kernel());
+    o.open = open;
+    o
+}
+
+/// Cuts `mesh` as the stroke file says, with the options already decided.
+pub fn cut(mesh: &PolyMesh, file: &StrokeFile, options: &CutOptions) -> Result<CutOutput, Error> {
     cut_by_stroke(
         mesh,
         &Stroke::new(file.stroke.clone()),
         &View::new(file.view_proj, file.viewport),
-        &options,
+        options,
     )
 }
 
@@ -378,8 +396,12 @@ pub fn run(args: &Args) -> Result<(), Error> {
     let file = StrokeFile::parse(&read_text(&args.stroke)?, &args.stroke)?;
     let mode = args.mode.or(file.mode).unwrap_or(Mode::VisibleOnly);
     let open = args.open || file.open.unwrap_or(false);
+    let mut options = options(mode, open);
+    options.snap_vertex_ratio = args.snap_vertex;
+    options.snap_segment_ratio = args.snap_segment;
+    options.corner_angle_deg = args.corner_angle;
     let mesh = io::read(&args.input)?;
-    let out = cut(&mesh, &file, mode, open)?;
+    let out = cut(&mesh, &file, &options)?;
     io::write(&args.output, &out.mesh)?;
     println!(
         "cut {} along {} stroke points ({}{})",

@@ -224,7 +224,11 @@ fn stroke_cut(out: &Path) -> Result<Vec<String>, Error> {
     let stroke_path = out.join(format!("{name}.stroke.json"));
     write_file(&stroke_path, file.to_json().as_bytes())?;
     let mut lines = Vec::new();
-    let r = crate::cut::cut(&mesh, &file, crate::cut::Mode::VisibleOnly, false)?;
+    let r = crate::cut::cut(
+        &mesh,
+        &file,
+        &crate::cut::options(crate::cut::Mode::VisibleOnly, false),
+    )?;
     io::write(&out.join(format!("{name}.cut.obj")), &r.mesh)?;
     lines.push(format!(
         "{name}: stroke cut (visible-only) along {} points from {}: {} -> {} faces, {} path(s) \
@@ -245,7 +249,11 @@ fn stroke_cut(out: &Path) -> Result<Vec<String>, Error> {
         r.report.moved.len(),
         r.report.max_move_px,
     ));
-    let r = crate::cut::cut(&mesh, &file, crate::cut::Mode::VisibleOnly, true)?;
+    let r = crate::cut::cut(
+        &mesh,
+        &file,
+        &crate::cut::options(crate::cut::Mode::VisibleOnly, true),
+    )?;
     io::write(&out.join(format!("{name}.cut_open.obj")), &r.mesh)?;
     let report = inspect(&r.mesh)?;
     lines.push(format!(

@@ -209,9 +209,7 @@ impl FaceBuckets {
                 return true;
             }
             if let Some(b) = before {
-                if t.iter().any(|&v| b.moved[v as usize])
-                    && self.hides(t, sign, &b.seen, &b.pos, s, z, x)
-                {
+                if t.iter().any(|&v| b.moved(v)) && self.hides(t, sign, &b.seen, &b.pos, s, z, x) {
                     return true;
                 }
             }

@@ -11,6 +11,8 @@
 //! rayon in fixed chunks and concatenate in chunk order, so the result does not depend on
 //! the thread count.
 
+use std::mem::MaybeUninit;
+
 use glam::{DVec2, DVec3, DVec4};
 use rayon::prelude::*;
 
@@ -166,6 +168,21 @@ impl CellGrid {
         cx | (cy << 16) | ((near as u32) << 31)
     }
 
+    /// [`code`](Self::code) of every point of `ps` into `out`, four at a time with AVX2 when
+    /// the CPU has it (same bits).
+    fn codes_into(&self, rows: &(DVec4, DVec4, DVec4), ps: &[DVec3], out: &mut [MaybeUninit<u32>]) {
+        #[allow(unused_mut)]
+        let mut done = 0;
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx2") {
+            // SAFETY: AVX2 is there; `out` is as long as `ps`; `near` is (nx + 2) × (ny + 2).
+            done = unsafe { super::codes_avx2::codes(rows, &self.near, self.nx, self.ny, ps, out) };
+        }
+        for (o, p) in out[done..].iter_mut().zip(&ps[done..]) {
+            o.write(self.code(rows, *p));
+        }
+    }
+
     /// Inclusive cell range of a box, clamped to the grid; `None` when it misses the grid.
     pub fn range(&self, lo: DVec2, hi: DVec2) -> Option<(i32, i32, i32, i32)> {
         let (x0, y0) = cell_of(self.origin, self.inv_cell, lo);
@@ -275,36 +292,26 @@ pub(crate) fn vertex_codes(positions: &[DVec3], proj: &Projector, grid: &CellGri
     codes.spare_capacity_mut()[..positions.len()]
         .par_chunks_mut(CHUNK)
         .zip(positions.par_chunks(CHUNK))
-        .for_each(|(out, ps)| {
-            for (o, p) in out.iter_mut().zip(ps) {
-                o.write(grid.code(&rows, *p));
-            }
-        });
+        .for_each(|(out, ps)| grid.codes_into(&rows, ps, out));
     // SAFETY: every one of the first `positions.len()` elements was written above.
     unsafe { codes.set_len(positions.len()) };
     codes
 }
 
-/// Whether a face is surely away from every marked cell, from its corners' codes alone:
-/// corner 0 is not near a marked cell, and corners 1 and 2 lie within `NEAR_RING` cells of
-/// it on both axes, so the face's cell box lies within `NEAR_RING` of corner 0 and holds no
-/// marked cell. (A [`BEHIND`] corner fails either test.) The scan's hot test, by lanes in
-/// one word: per pair, x and y differences offset by 4 must be in [0, 7], that is in
-/// [-4, 3]. Lanes are 14 bits (cells ≤ 2048 + border) under a guard bit that absorbs the
-/// borrow.
+/// Whether a face is surely away from every marked cell, from its corners' codes alone: no
+/// corner is near a marked cell, and corners 1 and 2 lie within `NEAR_RING` cells of corner
+/// 0 on both axes (differences in [-4, 3]), so the face's cell box lies within `NEAR_RING` of
+/// corner 0 and holds no marked cell. (A [`BEHIND`] corner has the near bit.) The scan's hot
+/// test, both axes in one subtraction: with the near bits clear, `c − (c0 − 4·(1, 1))` has
+/// each 16-bit lane in [0, 7] exactly when the differences are in range; a lane out of
+/// range sets a bit above 2 in it (a negative low lane also borrows from the high one, which
+/// only adds bits).
 #[inline]
 fn surely_away(c: [u32; 3]) -> bool {
-    const LANES: u32 = 0x3fff_3fff;
-    const GUARD: u32 = 0x4000_4000;
     const OFFSET: u32 = NEAR_RING | NEAR_RING << 16;
-    let d = |p: u32, q: u32| {
-        (((p & LANES) | GUARD)
-            .wrapping_sub(q & LANES)
-            .wrapping_add(OFFSET)
-            ^ GUARD)
-            & 0xfff8_fff8
-    };
-    c[0] >> 31 == 0 && d(c[1], c[0]) | d(c[2], c[0]) == 0
+    let base = c[0].wrapping_sub(OFFSET);
+    let spread = c[1].wrapping_sub(base) | c[2].wrapping_sub(base);
+    (spread & 0xfff8_fff8) | ((c[0] | c[1] | c[2]) >> 31) == 0
 }
 
 /// What [`candidate_faces`] keeps a face by: the stroke's segments and the margin, with the
@@ -337,13 +344,18 @@ pub(crate) fn candidate_faces(
                 segs: Vec::new(),
                 stamp: vec![u32::MAX; band.segments.len()],
             };
+            // The fast reject alone in a tight loop; the few faces it leaves after it.
+            let mut pending: Vec<u32> = Vec::new();
             for (i, t) in chunk.chunks_exact(3).enumerate() {
-                let f = base + i as u32;
                 let c = [codes[t[0].idx()], codes[t[1].idx()], codes[t[2].idx()]];
-                // Fast reject, the common case.
-                if surely_away(c) {
-                    continue;
+                if !surely_away(c) {
+                    pending.push(i as u32);
                 }
+            }
+            for i in pending {
+                let t = &chunk[3 * i as usize..3 * i as usize + 3];
+                let f = base + i;
+                let c = [codes[t[0].idx()], codes[t[1].idx()], codes[t[2].idx()]];
                 let behind = c.iter().filter(|&&x| x == BEHIND).count();
                 if behind == 0 {
                     if band.grid.any_marked(c) {
@@ -456,30 +468,27 @@ fn segment_near_triangle(a: DVec2, b: DVec2, t: [DVec2; 3], r: f64) -> bool {
     })
 }
 
-/// A cheap guess of the mean screen edge length from up to ~512 evenly spaced faces, to size
-/// the snap margin before the real L is known (a wrong guess costs a second pass, never a
-/// wrong result).
+/// A cheap guess of the mean screen edge length, to size the snap margin before the real L
+/// is known (a wrong guess costs a second pass, never a wrong result): 512 faces, in 32
+/// evenly spaced runs of 16 consecutive ones. Runs, because faces read far apart miss every
+/// cache and page-table level: 512 lone faces took a fifth as long as the whole vertex pass.
 pub(crate) fn sample_edge_length(
     positions: &[DVec3],
     corners: &[VertexId],
     proj: &Projector,
 ) -> f64 {
+    const RUNS: usize = 32;
+    const RUN: usize = 16;
     let nf = corners.len() / 3;
-    if nf == 0 {
-        return 0.0;
-    }
-    let step = (nf / 512).max(1);
+    let step = (nf / RUNS).max(RUN);
     let (mut sum, mut n) = (0.0, 0u32);
-    for f in (0..nf).step_by(step) {
-        let t = &corners[3 * f..3 * f + 3];
-        let s: Vec<_> = t
-            .iter()
-            .filter_map(|v| proj.see(positions[v.idx()]))
-            .collect();
-        if s.len() == 3 {
-            for i in 0..3 {
-                sum += (s[i].screen - s[(i + 1) % 3].screen).length();
-                n += 1;
+    for start in (0..nf).step_by(step) {
+        for t in corners[3 * start..3 * (start + RUN).min(nf)].chunks_exact(3) {
+            if let [Some(a), Some(b), Some(c)] =
+                [t[0], t[1], t[2]].map(|v| proj.screen_of(positions[v.idx()]))
+            {
+                sum += (a - b).length() + (b - c).length() + (c - a).length();
+                n += 3;
             }
         }
     }
@@ -492,7 +501,69 @@ pub(crate) fn sample_edge_length(
 
 #[cfg(test)]
 mod tests {
-    use super::floor_i32;
+    use super::{floor_i32, CellGrid, BEHIND};
+    use crate::cut::view::{Projector, View};
+    use glam::{DMat4, DVec2, DVec3};
+
+    /// The AVX2 pass gives the portable codes bit for bit: points everywhere on and off the
+    /// grid, on cell borders, behind the eye, on the eye plane, huge and NaN.
+    #[test]
+    #[cfg(target_arch = "x86_64")]
+    fn avx2_codes_match_the_portable_ones() {
+        if !std::arch::is_x86_feature_detected!("avx2") {
+            eprintln!("no AVX2 on this CPU: only the portable path runs");
+            return;
+        }
+        let vp = DMat4::perspective_rh_gl(0.9, 1.5, 0.1, 50.0)
+            * DMat4::look_at_rh(DVec3::new(0.3, -2.0, 3.0), DVec3::ZERO, DVec3::Z);
+        let proj = Projector::new(&View::new(vp, [10.0, 20.0, 900.0, 600.0])).unwrap();
+        let segs = [
+            (DVec2::new(100.0, 100.0), DVec2::new(700.0, 400.0)),
+            (DVec2::new(700.0, 400.0), DVec2::new(300.0, 550.0)),
+        ];
+        let grid = CellGrid::new(&segs, 6.0, 4.0);
+        let rows = proj.cell_rows(grid.origin, grid.inv_cell);
+        // A deterministic spread: a lattice with irrational steps, plus special values.
+        let mut ps: Vec<DVec3> = (0..20_000)
+            .map(|i| {
+                let t = i as f64;
+                DVec3::new(
+                    (t * 0.618_034).fract() * 8.0 - 4.0,
+                    (t * 0.414_214).fract() * 8.0 - 4.0,
+                    (t * 0.732_051).fract() * 8.0 - 4.0,
+                )
+            })
+            .collect();
+        let eye = DVec3::new(0.3, -2.0, 3.0);
+        ps.extend([
+            eye,
+            eye + DVec3::new(1e-300, 0.0, 0.0),
+            DVec3::splat(f64::NAN),
+            DVec3::new(f64::INFINITY, 0.0, 0.0),
+            DVec3::new(1e300, -1e300, 1e300),
+            DVec3::ZERO,
+        ]);
+        // Points exactly on cell borders of the grid's plane z = 0 seen head-on are rare;
+        // add screen-space borders unprojected on the near and far side of the origin.
+        for k in 0..64 {
+            let s = grid.origin + DVec2::splat(k as f64 * grid.cell);
+            ps.push(proj.unproject(s, 3.0, 0.5));
+            ps.push(proj.unproject(s + DVec2::new(0.0, 0.5 * grid.cell), 5.0, -0.2));
+        }
+        let portable: Vec<u32> = ps.iter().map(|&p| grid.code(&rows, p)).collect();
+        let mut simd = vec![std::mem::MaybeUninit::new(0u32); ps.len()];
+        // SAFETY: AVX2 checked; sizes as required.
+        let done = unsafe {
+            super::super::codes_avx2::codes(&rows, &grid.near, grid.nx, grid.ny, &ps, &mut simd)
+        };
+        assert_eq!(done, ps.len() / 4 * 4);
+        for (i, (a, b)) in portable.iter().zip(&simd[..done]).enumerate() {
+            // SAFETY: initialized above.
+            assert_eq!(*a, unsafe { b.assume_init() }, "point {i}: {:?}", ps[i]);
+        }
+        assert!(portable.contains(&BEHIND));
+        assert!(portable.iter().any(|&c| c >> 31 == 1 && c != BEHIND));
+    }
 
     #[test]
     fn floor_i32_is_a_saturating_floor() {

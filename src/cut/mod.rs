@@ -63,6 +63,8 @@
 
 mod assemble;
 mod candidates;
+#[cfg(target_arch = "x86_64")]
+mod codes_avx2;
 mod crossings;
 mod edits;
 mod geom;

@@ -6,8 +6,8 @@
 //! vertex and stores its cell (clamped to one ring of "outside" cells, or "behind the eye"),
 //! with a bit saying whether the cell is next to a marked one; pass 2 keeps a face when the
 //! cell box of its corners covers a marked cell — a conservative test, so every face within
-//! the margin of the stroke is kept; most faces are rejected from the bits alone, the rest
-//! are measured against the segments near their cells in the same pass. Both passes run on
+//! the margin of the stroke is kept; most faces are rejected from the bits alone (the region
+//! then measures the few kept ones on screen). Both passes run on
 //! rayon in fixed chunks and concatenate in chunk order, so the result does not depend on
 //! the thread count.
 
@@ -255,8 +255,8 @@ fn floor_i32(x: f64) -> i32 {
 }
 
 /// Whether `p` is within `r` of segment `ab`: [`point_segment_distance`] `<= r` up to
-/// rounding, without its square root and division (the grid and [`Band::near_face`] ask this
-/// thousands of times per cut).
+/// rounding, without its square root and division (the grid asks this thousands of times
+/// per cut).
 #[inline]
 pub(crate) fn within(p: DVec2, a: DVec2, b: DVec2, r: f64) -> bool {
     let (ab, ap) = (b - a, p - a);
@@ -314,131 +314,64 @@ fn surely_away(c: [u32; 3]) -> bool {
     (spread & 0xfff8_fff8) | ((c[0] | c[1] | c[2]) >> 31) == 0
 }
 
-/// What [`candidate_faces`] keeps a face by: the stroke's segments and the margin, with the
-/// mesh positions and the view to place the face on screen.
-pub(crate) struct Band<'a> {
-    pub positions: &'a [DVec3],
-    pub proj: &'a Projector,
-    pub grid: &'a CellGrid,
-    pub segments: &'a [(DVec2, DVec2)],
-    pub margin: f64,
-}
-
-/// Pass 2: the faces within the band's margin of the stroke, ascending, each with whether
-/// the stroke meets it (for L); and, ascending, the kept faces straddling the eye plane. A
-/// face passes the grid test on its corners' codes first (most are rejected there), then
-/// [`Band::near_face`] in the same chunk, while its corners are in cache.
+/// Pass 2: the faces whose corners' cell box covers a marked cell, ascending, with their
+/// corners (read here while in cache); and, ascending, the kept faces straddling the eye
+/// plane. A conservative superset of the faces within the margin of the stroke (the region
+/// measures them exactly on screen, once per vertex: measuring here projected each vertex
+/// once per face around it).
 pub(crate) fn candidate_faces(
     corners: &[VertexId],
     codes: &[u32],
-    band: &Band<'_>,
+    grid: &CellGrid,
 ) -> (Kept, Vec<u32>) {
     let chunks: Vec<(Kept, Vec<u32>)> = corners
         .par_chunks(3 * CHUNK)
         .enumerate()
         .map(|(ci, chunk)| {
             let base = (ci * CHUNK) as u32;
-            let mut keep = Vec::new();
+            let mut keep = Kept::default();
             let mut clipped = Vec::new();
-            let mut scratch = Scratch {
-                segs: Vec::new(),
-                stamp: vec![u32::MAX; band.segments.len()],
-            };
-            // The fast reject alone in a tight loop; the few faces it leaves after it.
-            let mut pending: Vec<u32> = Vec::new();
             for (i, t) in chunk.chunks_exact(3).enumerate() {
                 let c = [codes[t[0].idx()], codes[t[1].idx()], codes[t[2].idx()]];
-                if !surely_away(c) {
-                    pending.push(i as u32);
+                // Fast reject, the common case.
+                if surely_away(c) {
+                    continue;
                 }
-            }
-            for i in pending {
-                let t = &chunk[3 * i as usize..3 * i as usize + 3];
-                let f = base + i;
-                let c = [codes[t[0].idx()], codes[t[1].idx()], codes[t[2].idx()]];
+                let f = base + i as u32;
                 let behind = c.iter().filter(|&&x| x == BEHIND).count();
-                if behind == 0 {
-                    if band.grid.any_marked(c) {
-                        if let Some(meets) = band.near_face(f, [t[0], t[1], t[2]], &mut scratch) {
-                            keep.push((f, meets));
-                        }
-                    }
-                } else if behind < 3 {
-                    // Straddling the eye plane: never cut, but kept so an edge it shares with
-                    // a cut face gets its split vertex too (no T-junction).
-                    keep.push((f, false));
+                let straddles = behind > 0 && behind < 3;
+                if (behind == 0 && grid.any_marked(c)) || straddles {
+                    keep.faces.push(f);
+                    keep.corners.push([t[0].0, t[1].0, t[2].0]);
+                }
+                if straddles {
+                    // Never cut, but kept so an edge it shares with a cut face gets its split
+                    // vertex too (no T-junction).
                     clipped.push(f);
                 }
             }
             (keep, clipped)
         })
         .collect();
-    let mut keep = Vec::with_capacity(chunks.iter().map(|c| c.0.len()).sum());
+    let mut keep = Kept::default();
     let mut clipped = Vec::new();
     for (k, c) in chunks {
-        keep.extend(k);
+        keep.faces.extend(k.faces);
+        keep.corners.extend(k.corners);
         clipped.extend(c);
     }
     (keep, clipped)
 }
 
-/// Kept faces with whether the stroke meets each.
-type Kept = Vec<(u32, bool)>;
-
-/// Per-chunk scratch of [`Band::near_face`]: the segments gathered for the current face,
-/// and the face that last gathered each segment (no sort per face).
-struct Scratch {
-    segs: Vec<u32>,
-    stamp: Vec<u32>,
-}
-
-impl Band<'_> {
-    /// Whether face `f` (corners `t`) comes within the margin of the stroke on screen:
-    /// `Some(whether the stroke meets it)`, or `None`. Plain f64 with a relative slack on
-    /// the margin: membership only needs to be conservative (a face around a vertex within
-    /// the margin is at most as far as that vertex, by the same arithmetic), and L is a mean;
-    /// every topological decision is taken later by exact predicates. So every face around
-    /// a vertex within the margin is kept, and every face the stroke crosses or that can
-    /// hide a crossing. A face with a corner behind the eye is kept (never cut).
-    fn near_face(&self, f: u32, t: [VertexId; 3], sc: &mut Scratch) -> Option<bool> {
-        let keep = self.margin * (1.0 + 1e-9) + 1e-12;
-        let seen = t.map(|v| self.proj.screen_of(self.positions[v.idx()]));
-        let [Some(s0), Some(s1), Some(s2)] = seen else {
-            return Some(false);
-        };
-        let s = [s0, s1, s2];
-        let (lo, hi) = (s[0].min(s[1]).min(s[2]), s[0].max(s[1]).max(s[2]));
-        let pad = DVec2::splat(keep);
-        sc.segs.clear();
-        if let Some((x0, y0, x1, y1)) = self.grid.range(lo - pad, hi + pad) {
-            for cy in y0..y1 + 1 {
-                for cx in x0..x1 + 1 {
-                    for &k in self.grid.segments_at(cx, cy) {
-                        if sc.stamp[k as usize] != f {
-                            sc.stamp[k as usize] = f;
-                            sc.segs.push(k);
-                        }
-                    }
-                }
-            }
-        }
-        let mut near = false;
-        for &k in &sc.segs {
-            let (a, b) = self.segments[k as usize];
-            if a.max(b).cmplt(lo - pad).any() || a.min(b).cmpgt(hi + pad).any() {
-                continue;
-            }
-            if segment_meets_triangle(a, b, s) {
-                return Some(true);
-            }
-            near = near || segment_near_triangle(a, b, s, keep);
-        }
-        near.then_some(false)
-    }
+/// Kept faces (ascending) and their corners (global vertex ids).
+#[derive(Debug, Default)]
+pub(crate) struct Kept {
+    pub faces: Vec<u32>,
+    pub corners: Vec<[u32; 3]>,
 }
 
 /// Whether a segment and a triangle on screen meet (touching counts), f64.
-fn segment_meets_triangle(a: DVec2, b: DVec2, t: [DVec2; 3]) -> bool {
+pub(crate) fn segment_meets_triangle(a: DVec2, b: DVec2, t: [DVec2; 3]) -> bool {
     let cross = |o: DVec2, p: DVec2, q: DVec2| (p - o).perp_dot(q - o);
     let inside = |p: DVec2| {
         let o = [
@@ -459,9 +392,41 @@ fn segment_meets_triangle(a: DVec2, b: DVec2, t: [DVec2; 3]) -> bool {
     })
 }
 
+/// ([`segment_meets_triangle`], [`segment_near_triangle`]) of segment `ab` and triangle `t`
+/// (near: within `r`), with a shortcut for the common case of a triangle that lies across
+/// the segment's slab (every corner projects strictly inside the segment) and clearly off
+/// its line or clearly across it: off, the nearest points are a corner and its foot on the
+/// segment, tested as [`within`] tests it; across, the line's chord through the triangle
+/// is inside the slab, so the segment meets it. A corner within a billionth of the squared
+/// length of the line takes the general tests (rounding would decide it).
+pub(crate) fn segment_and_triangle(a: DVec2, b: DVec2, t: [DVec2; 3], r: f64) -> (bool, bool) {
+    let ab = b - a;
+    let len2 = ab.length_squared();
+    let mut slab = true;
+    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+    for p in t {
+        let ap = p - a;
+        let u = ap.dot(ab);
+        slab &= u > 0.0 && u < len2;
+        let c = ab.perp_dot(ap);
+        lo = lo.min(c);
+        hi = hi.max(c);
+    }
+    let tiny = 1e-9 * len2;
+    if slab && (lo > tiny || hi < -tiny) {
+        let c = if lo > 0.0 { lo } else { hi };
+        return (false, c * c <= r * r * len2);
+    }
+    if slab && lo < -tiny && hi > tiny {
+        return (true, true);
+    }
+    let meets = segment_meets_triangle(a, b, t);
+    (meets, meets || segment_near_triangle(a, b, t, r))
+}
+
 /// Whether a segment and a triangle that do not meet come within `r` of each other: the
 /// nearest pair has an end point of one on the other.
-fn segment_near_triangle(a: DVec2, b: DVec2, t: [DVec2; 3], r: f64) -> bool {
+pub(crate) fn segment_near_triangle(a: DVec2, b: DVec2, t: [DVec2; 3], r: f64) -> bool {
     (0..3).any(|i| {
         let (p, q) = (t[i], t[(i + 1) % 3]);
         within(a, p, q, r) || within(b, p, q, r) || within(p, a, b, r)

@@ -160,14 +160,7 @@ fn plan<'a>(
     let (grid, clipped, mut region, l_px, l_world, degenerate_met) = loop {
         let grid = CellGrid::new(&segs, margin, margin.max(l_guess));
         let codes = candidates::vertex_codes(tm.positions(), &proj, &grid);
-        let band = candidates::Band {
-            positions: tm.positions(),
-            proj: &proj,
-            grid: &grid,
-            segments: &segs,
-            margin,
-        };
-        let (kept, clipped) = candidates::candidate_faces(tm.corners(), &codes, &band);
+        let (kept, clipped) = candidates::candidate_faces(tm.corners(), &codes, &grid);
         let region = Region::build(tm, &kept, &grid, &segs, margin, &proj, options.mode)?;
         let (l_px, l_world, degenerate_met) = region.mean_edge_length();
         if max_ratio * l_px <= margin {

@@ -1,28 +1,60 @@
 //! A stable LSD radix sort of (key, value) pairs by key, for the few-thousand-element sorts
 //! of a cut region (corners by vertex id, faces by depth): several times faster there than
 //! a comparison sort, and `std` has none.
+//!
+//! The input is cut in four quarters, each with its own counters, walked side by side: the
+//! keys come nearly sorted (corners of ascending faces), so one set of counters would bump
+//! the same counter over and over, each increment waiting for the last (measured: 7 ns per
+//! element; four independent chains run about three times as fast). Quarter q's elements of
+//! a digit go after quarter q − 1's, so the sort stays stable.
 
 const BITS: u32 = 11;
 const MASK: u32 = (1 << BITS) - 1;
+const WAYS: usize = 4;
 
 /// Sorts `pairs` by `.0`, keeping the order of equal keys.
 pub(crate) fn sort_by_key(pairs: &mut Vec<(u32, u32)>) {
+    let n = pairs.len();
+    if n < 256 {
+        pairs.sort_by_key(|p| p.0);
+        return;
+    }
     let max = pairs.iter().map(|k| k.0).max().unwrap_or(0);
-    let mut tmp = vec![(0u32, 0u32); pairs.len()];
+    let mut tmp = vec![(0u32, 0u32); n];
+    // Quarters [start[w], start[w + 1]); the first three are q long, the last takes the rest.
+    let q = n / WAYS;
+    let start = [0, q, 2 * q, 3 * q, n];
     let mut shift = 0;
     while shift < 32 && (max >> shift) > 0 {
-        let mut count = [0u32; 1 << BITS];
-        for k in pairs.iter() {
-            count[((k.0 >> shift) & MASK) as usize] += 1;
+        let digit = |k: u32| ((k >> shift) & MASK) as usize;
+        let mut count = [[0u32; 1 << BITS]; WAYS];
+        for i in 0..q {
+            for w in 0..WAYS {
+                count[w][digit(pairs[start[w] + i].0)] += 1;
+            }
         }
+        for k in &pairs[start[3] + q..] {
+            count[3][digit(k.0)] += 1;
+        }
+        // Offsets: by digit, then by quarter.
         let mut sum = 0;
-        for c in count.iter_mut() {
-            (*c, sum) = (sum, sum + *c);
+        for d in 0..1 << BITS {
+            for c in count.iter_mut() {
+                (c[d], sum) = (sum, sum + c[d]);
+            }
         }
-        for &k in pairs.iter() {
-            let d = ((k.0 >> shift) & MASK) as usize;
-            tmp[count[d] as usize] = k;
-            count[d] += 1;
+        for i in 0..q {
+            for w in 0..WAYS {
+                let k = pairs[start[w] + i];
+                let c = &mut count[w][digit(k.0)];
+                tmp[*c as usize] = k;
+                *c += 1;
+            }
+        }
+        for &k in &pairs[start[3] + q..] {
+            let c = &mut count[3][digit(k.0)];
+            tmp[*c as usize] = k;
+            *c += 1;
         }
         std::mem::swap(pairs, &mut tmp);
         shift += BITS;
@@ -37,5 +69,44 @@ pub(crate) fn f32_key(x: f32) -> u32 {
         !b
     } else {
         b | 0x8000_0000
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::sort_by_key;
+
+    /// Stable and sorted, as `sort_by_key` of std: small and large inputs, nearly sorted,
+    /// reversed, few distinct keys, keys using all 32 bits, lengths not divisible by four.
+    #[test]
+    fn radix_sort_is_a_stable_sort() {
+        let mut seed = 0x9e37_79b9_7f4a_7c15u64;
+        let mut rnd = move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            seed
+        };
+        for n in [0usize, 1, 5, 255, 256, 257, 1000, 4099, 30_001] {
+            let inputs: [Vec<u32>; 4] = [
+                (0..n)
+                    .map(|i| (i as u32) / 3 + (rnd() % 5) as u32)
+                    .collect(),
+                (0..n).map(|i| (n - i) as u32).collect(),
+                (0..n).map(|_| (rnd() % 7) as u32).collect(),
+                (0..n).map(|_| rnd() as u32).collect(),
+            ];
+            for keys in inputs {
+                let mut pairs: Vec<(u32, u32)> = keys
+                    .iter()
+                    .enumerate()
+                    .map(|(i, &k)| (k, i as u32))
+                    .collect();
+                let mut want = pairs.clone();
+                want.sort_by_key(|p| p.0);
+                sort_by_key(&mut pairs);
+                assert_eq!(pairs, want, "n = {n}");
+            }
+        }
     }
 }

@@ -27,6 +27,12 @@ const CHUNK: usize = 1 << 14;
 /// edges vary, so 1 sent a quarter of a dense mesh's faces to the slow test; 4 sends few
 /// and suits [`surely_away`]'s lanes.
 const NEAR_RING: u32 = 4;
+/// The second, tighter ring: the slow test rejects faces spanning at most this many cells
+/// whose corners are all outside it without looking at the grid.
+const CLOSE_RING: u32 = 1;
+/// Flags of the near table, as they sit in bits 24-31 of a vertex code.
+const NEAR: u8 = 0x80;
+const CLOSE: u8 = 0x40;
 
 /// The grid over the stroke: geometry, marked cells and the segments near each cell.
 #[derive(Debug, Clone)]
@@ -37,10 +43,11 @@ pub(crate) struct CellGrid {
     pub ny: i32,
     inv_cell: f64,
     marked: Vec<bool>,
-    /// Marked cells grown by [`NEAR_RING`] cells each way, on the grid with its outside ring: a face none of whose corners is
-    /// in it touches a marked cell only if it spans more than `NEAR_RING` cells (its corners
-    /// are then not all within `NEAR_RING` cells of the marked one).
-    near: Vec<bool>,
+    /// Marked cells grown by [`NEAR_RING`] cells each way ([`NEAR`]) and by [`CLOSE_RING`]
+    /// ([`CLOSE`] too), on the grid with its outside ring: a face none of whose corners is in
+    /// a ring touches a marked cell only if it spans more cells than the ring is wide (its
+    /// corners are then not all within the ring's width of the marked one).
+    near: Vec<u8>,
     /// CSR: segments within the margin of cell `c` are `seg_list[seg_start[c]..seg_start[c+1]]`.
     seg_start: Vec<u32>,
     seg_list: Vec<u32>,
@@ -98,22 +105,24 @@ impl CellGrid {
             }
         }
         pairs.sort_unstable();
-        // Dilation by NEAR_RING cells (Chebyshev): a row span per marked cell and row (the
-        // marked cells are a thin band, so this beats two passes over the whole grid).
-        let r = NEAR_RING as i32;
-        // With the outside ring (never near), indexed by code: (cy + 1)·(nx + 2) + cx + 1.
-        let mut near = vec![false; ((nx + 2) * (ny + 2)) as usize];
-        let mut last = u32::MAX;
-        for &(c, _) in &pairs {
-            if c == last {
-                continue;
-            }
-            last = c;
-            let (cx, cy) = ((c % nx as u32) as i32, (c / nx as u32) as i32);
-            let (x0, x1) = ((cx - r).max(0), (cx + r).min(nx - 1));
-            for y in (cy - r).max(0)..(cy + r).min(ny - 1) + 1 {
-                let row = ((y + 1) * (nx + 2) + 1) as usize;
-                near[row + x0 as usize..=row + x1 as usize].fill(true);
+        // Dilations by NEAR_RING, then CLOSE_RING cells (Chebyshev): a row span per marked
+        // cell and row (the marked cells are a thin band, so this beats passes over the whole
+        // grid). With the outside ring (never near), indexed by code: (cy + 1)·(nx + 2) + cx + 1.
+        let mut near = vec![0u8; ((nx + 2) * (ny + 2)) as usize];
+        for (r, flags) in [(NEAR_RING, NEAR), (CLOSE_RING, NEAR | CLOSE)] {
+            let r = r as i32;
+            let mut last = u32::MAX;
+            for &(c, _) in &pairs {
+                if c == last {
+                    continue;
+                }
+                last = c;
+                let (cx, cy) = ((c % nx as u32) as i32, (c / nx as u32) as i32);
+                let (x0, x1) = ((cx - r).max(0), (cx + r).min(nx - 1));
+                for y in (cy - r).max(0)..(cy + r).min(ny - 1) + 1 {
+                    let row = ((y + 1) * (nx + 2) + 1) as usize;
+                    near[row + x0 as usize..=row + x1 as usize].fill(flags);
+                }
             }
         }
         let mut seg_start = vec![0u32; ncell + 1];
@@ -138,9 +147,9 @@ impl CellGrid {
     }
 
     /// The vertex code of a world point seen through `rows` ([`Projector::cell_rows`] for
-    /// this grid): its cell, clamped to one outside ring, packed (x in bits 0-15, y in 16-30,
-    /// both offset by one so the ring below is 0), and bit 31 set when the cell is near a
-    /// marked one; [`BEHIND`] behind the eye. Branch-free but for the eye test; NaN clamps
+    /// this grid): its cell, clamped to one outside ring, packed (x in bits 0-15, y in 16-29,
+    /// both offset by one so the ring below is 0), with the cell's [`NEAR`] and [`CLOSE`]
+    /// flags in bits 31 and 30; [`BEHIND`] behind the eye. Branch-free but for the eye test; NaN clamps
     /// to the ring (`f64::max` drops it). (No `floor`: without SSE4.1 it is a libm call.)
     #[inline]
     pub fn code(&self, rows: &(DVec4, DVec4, DVec4), p: DVec3) -> u32 {
@@ -164,8 +173,8 @@ impl CellGrid {
         let at = (cy * (self.nx as u32 + 2) + cx) as usize;
         debug_assert!(at < self.near.len());
         // SAFETY: as above, in the table.
-        let near = unsafe { *self.near.get_unchecked(at) };
-        cx | (cy << 16) | ((near as u32) << 31)
+        let flags = unsafe { *self.near.get_unchecked(at) };
+        cx | (cy << 16) | (flags as u32) << 24
     }
 
     /// [`code`](Self::code) of every point of `ps` into `out`, four at a time with AVX2 when
@@ -202,14 +211,15 @@ impl CellGrid {
     #[inline]
     fn any_marked(&self, codes: [u32; 3]) -> bool {
         let xs = codes.map(|c| (c & 0xffff) as i32 - 1);
-        let ys = codes.map(|c| ((c >> 16) & 0x7fff) as i32 - 1);
+        let ys = codes.map(|c| ((c >> 16) & 0x3fff) as i32 - 1);
         let (x0, x1) = (xs[0].min(xs[1]).min(xs[2]), xs[0].max(xs[1]).max(xs[2]));
         let (y0, y1) = (ys[0].min(ys[1]).min(ys[2]), ys[0].max(ys[1]).max(ys[2]));
-        // Fast reject: a face within NEAR_RING cells each way touches a marked cell only if
-        // all its corners are near one.
-        if (codes[0] | codes[1] | codes[2]) >> 31 == 0
-            && x1 - x0 <= NEAR_RING as i32
-            && y1 - y0 <= NEAR_RING as i32
+        // Fast rejects: a face within a ring's width each way touches a marked cell only if
+        // some corner is in the ring.
+        let flags = (codes[0] | codes[1] | codes[2]) >> 24;
+        let (wx, wy) = (x1 - x0, y1 - y0);
+        if (flags as u8 & NEAR == 0 && wx <= NEAR_RING as i32 && wy <= NEAR_RING as i32)
+            || (flags as u8 & CLOSE == 0 && wx <= CLOSE_RING as i32 && wy <= CLOSE_RING as i32)
         {
             return false;
         }

@@ -16,14 +16,14 @@ use std::mem::MaybeUninit;
 use glam::{DVec3, DVec4};
 
 /// Codes of `ps[..4k]` into `out[..4k]` (k = `ps.len() / 4`), returning 4k; the caller does
-/// the rest with the portable code. `near` is the grid's near table, (nx + 2) × (ny + 2).
+/// the rest with the portable code. `near` is the grid's table of near flags, (nx + 2) × (ny + 2).
 ///
 /// # Safety
 /// The CPU has AVX2; `out.len() >= ps.len()`; `near.len() == (nx + 2) * (ny + 2)`.
 #[target_feature(enable = "avx2")]
 pub(crate) unsafe fn codes(
     rows: &(DVec4, DVec4, DVec4),
-    near: &[bool],
+    near: &[u8],
     nx: i32,
     ny: i32,
     ps: &[DVec3],
@@ -83,7 +83,7 @@ pub(crate) unsafe fn codes(
         );
         let code = _mm_or_si128(
             _mm_or_si128(cx, _mm_slli_epi32::<16>(cy)),
-            _mm_slli_epi32::<31>(nb),
+            _mm_slli_epi32::<24>(nb),
         );
         // The 64-bit "in front" masks narrowed to 32 bits; behind the eye: all ones (BEHIND).
         let front32 = _mm_castps_si128(_mm_shuffle_ps::<0b10_00_10_00>(

@@ -216,14 +216,14 @@ fn face_near(
     let s = [a.screen, b.screen, c.screen];
     let keep = margin * (1.0 + 1e-9) + 1e-12;
     let pad = DVec2::splat(keep);
-    let (lo, hi) = (
-        s[0].min(s[1]).min(s[2]) - pad,
-        s[0].max(s[1]).max(s[2]) + pad,
-    );
-    // A segment within `keep` of the face passes through a cell of its grown box, and every
-    // cell lists the segments through it. Each tested once: the last few tested are
-    // remembered (a segment spans many cells of a small box).
+    let (lo, hi) = (s[0].min(s[1]).min(s[2]), s[0].max(s[1]).max(s[2]));
+    // A segment within `keep` of the face is within `keep` of a point of the face's box, and
+    // the cell of that point lists every segment within the margin of it (cells list those
+    // within the margin and half a diagonal of their centre, with a relative slack of 1e-4
+    // of the half diagonal, far above 1e-9 of the margin). Each segment tested once: the last
+    // few tested are remembered (a segment spans many cells of a small box).
     let (x0, y0, x1, y1) = grid.range(lo, hi)?;
+    let (lo, hi) = (lo - pad, hi + pad);
     let mut near = false;
     let mut recent = [u32::MAX; 4];
     for cy in y0..y1 + 1 {

@@ -424,9 +424,11 @@ fn flip(
     }
     if better {
         let (px, py, pp, pq) = (sp.pos(x), sp.pos(y), sp.pos(p), sp.pos(q));
-        let before = max_cos(px, py, pp).max(max_cos(py, px, pq)).acos();
-        let after = max_cos(pp, px, pq).max(max_cos(pq, py, pp)).acos();
-        if after <= before * (1.0 + 1e-9) {
+        let before = max_cos(px, py, pp).max(max_cos(py, px, pq));
+        let after = max_cos(pp, px, pq).max(max_cos(pq, py, pp));
+        // Arc cosine falls, so the smallest angle can only grow with a smaller cosine; the
+        // angles (and the slack) only then.
+        if after >= before || after.acos() <= before.acos() * (1.0 + 1e-9) {
             return false;
         }
     }

@@ -33,6 +33,8 @@ const CLOSE_RING: u32 = 1;
 /// Flags of the near table, as they sit in bits 24-31 of a vertex code.
 const NEAR: u8 = 0x80;
 const CLOSE: u8 = 0x40;
+/// The cell itself is marked.
+const MARKED: u8 = 0x20;
 
 /// The grid over the stroke: geometry, marked cells and the segments near each cell.
 #[derive(Debug, Clone)]
@@ -43,8 +45,8 @@ pub(crate) struct CellGrid {
     pub ny: i32,
     inv_cell: f64,
     marked: Vec<bool>,
-    /// Marked cells grown by [`NEAR_RING`] cells each way ([`NEAR`]) and by [`CLOSE_RING`]
-    /// ([`CLOSE`] too), on the grid with its outside ring: a face none of whose corners is in
+    /// Marked cells ([`MARKED`]) grown by [`NEAR_RING`] cells each way ([`NEAR`]) and by
+    /// [`CLOSE_RING`] ([`CLOSE`] too), on the grid with its outside ring: a face none of whose corners is in
     /// a ring touches a marked cell only if it spans more cells than the ring is wide (its
     /// corners are then not all within the ring's width of the marked one).
     near: Vec<u8>,
@@ -81,6 +83,8 @@ impl CellGrid {
         let nx = ((ext.x / cell).ceil() as i32).max(1);
         let ny = ((ext.y / cell).ceil() as i32).max(1);
         let ncell = (nx * ny) as usize;
+        // Codes hold x + 1 in 16 bits and y + 1 in 13.
+        debug_assert!(nx + 2 <= 0xffff && ny + 2 <= 0x1fff);
         let inv_cell = 1.0 / cell;
         let mut marked = vec![false; ncell];
         let mut pairs: Vec<(u32, u32)> = Vec::new();
@@ -125,6 +129,10 @@ impl CellGrid {
                 }
             }
         }
+        for &(c, _) in &pairs {
+            let (cx, cy) = (c % nx as u32, c / nx as u32);
+            near[((cy + 1) * (nx as u32 + 2) + cx + 1) as usize] |= MARKED;
+        }
         let mut seg_start = vec![0u32; ncell + 1];
         for &(c, _) in &pairs {
             seg_start[c as usize + 1] += 1;
@@ -147,9 +155,9 @@ impl CellGrid {
     }
 
     /// The vertex code of a world point seen through `rows` ([`Projector::cell_rows`] for
-    /// this grid): its cell, clamped to one outside ring, packed (x in bits 0-15, y in 16-29,
-    /// both offset by one so the ring below is 0), with the cell's [`NEAR`] and [`CLOSE`]
-    /// flags in bits 31 and 30; [`BEHIND`] behind the eye. Branch-free but for the eye test; NaN clamps
+    /// this grid): its cell, clamped to one outside ring, packed (x in bits 0-15, y in 16-28,
+    /// both offset by one so the ring below is 0), with the cell's [`NEAR`], [`CLOSE`] and
+    /// [`MARKED`] flags in bits 31, 30 and 29; [`BEHIND`] behind the eye. Branch-free but for the eye test; NaN clamps
     /// to the ring (`f64::max` drops it). (No `floor`: without SSE4.1 it is a libm call.)
     #[inline]
     pub fn code(&self, rows: &(DVec4, DVec4, DVec4), p: DVec3) -> u32 {
@@ -211,12 +219,16 @@ impl CellGrid {
     #[inline]
     fn any_marked(&self, codes: [u32; 3]) -> bool {
         let xs = codes.map(|c| (c & 0xffff) as i32 - 1);
-        let ys = codes.map(|c| ((c >> 16) & 0x3fff) as i32 - 1);
+        let ys = codes.map(|c| ((c >> 16) & 0x1fff) as i32 - 1);
         let (x0, x1) = (xs[0].min(xs[1]).min(xs[2]), xs[0].max(xs[1]).max(xs[2]));
         let (y0, y1) = (ys[0].min(ys[1]).min(ys[2]), ys[0].max(ys[1]).max(ys[2]));
+        let flags = (codes[0] | codes[1] | codes[2]) >> 24;
+        // A corner in a marked cell: its cell is in the box.
+        if flags as u8 & MARKED != 0 {
+            return true;
+        }
         // Fast rejects: a face within a ring's width each way touches a marked cell only if
         // some corner is in the ring.
-        let flags = (codes[0] | codes[1] | codes[2]) >> 24;
         let (wx, wy) = (x1 - x0, y1 - y0);
         if (flags as u8 & NEAR == 0 && wx <= NEAR_RING as i32 && wy <= NEAR_RING as i32)
             || (flags as u8 & CLOSE == 0 && wx <= CLOSE_RING as i32 && wy <= CLOSE_RING as i32)

@@ -278,7 +278,19 @@ pub(crate) fn find_occurrences(
             let (z, x) = elem_depth(region, o);
             // A point snapping did not move must also have been seen before it.
             let still = before.filter(|b| !elem_moved(region, b, o.elem));
-            o.visible = !buckets.hidden(region, o.screen, z, x, still);
+            let (pair, one);
+            let own: &[u32] = match o.elem {
+                Elem::V(v) => region.vertex_faces(v),
+                Elem::E { edge, .. } => {
+                    pair = region.edge_faces[edge as usize];
+                    &pair
+                }
+                Elem::P { face, .. } => {
+                    one = [face];
+                    &one
+                }
+            };
+            o.visible = !buckets.hidden(region, o.screen, z, x, still, own);
         });
         // In visible-only mode a piece end inside faces belongs to the nearest visible one.
         occ.retain(|o| !matches!(o.elem, Elem::P { .. }) || o.visible);

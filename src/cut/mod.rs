@@ -203,7 +203,14 @@ fn plan<'a>(
                 }
                 let seen = region.seen[v].expect("allowed vertices are projectable");
                 !near_stroke(seen.screen)
-                    || !buckets.hidden(&region, seen.screen, seen.z, region.pos[v], None)
+                    || !buckets.hidden(
+                        &region,
+                        seen.screen,
+                        seen.z,
+                        region.pos[v],
+                        None,
+                        region.vertex_faces(v as u32),
+                    )
             })
             .collect()
     } else {

@@ -186,8 +186,18 @@ impl FaceBuckets {
     /// Whether some candidate face lies in front of world point `x` (screen `s`, NDC depth
     /// `z`) by more than the depth tolerance; with `before`, for a point that snapping did
     /// not move, also whether the faces hid it as they were before snapping (so a snap that
-    /// pulls an occluder aside does not expose what the user could not see).
-    pub fn hidden(&self, r: &Region, s: DVec2, z: f64, x: DVec3, before: Option<&Before>) -> bool {
+    /// pulls an occluder aside does not expose what the user could not see). `own`: the faces
+    /// the point lies on (its edge's, its vertex's), which hold it at its own depth and never
+    /// hide it: skipped (their inside tests are the costly near-zero ones).
+    pub fn hidden(
+        &self,
+        r: &Region,
+        s: DVec2,
+        z: f64,
+        x: DVec3,
+        before: Option<&Before>,
+        own: &[u32],
+    ) -> bool {
         for e in self.entries_at(s) {
             // Every face from here on has all its corners behind the point: NDC depth is
             // affine on a screen triangle, and snapping keeps depth, so none of them is
@@ -201,6 +211,7 @@ impl FaceBuckets {
                 || s.y < e.lo[1] as f64
                 || s.x > e.hi[0] as f64
                 || s.y > e.hi[1] as f64
+                || own.contains(&e.face)
             {
                 continue;
             }

@@ -1,12 +1,12 @@
 //! Stroke cut (seed 002, issue 5): the cut's time against the floor, one projection pass over
-//! all vertices (view-projection, divide, viewport into a fresh screen array), and against a
-//! clone of the mesh (the cost of any function returning a new mesh), in one run; the floor
-//! also written with AVX2 as the cut's vertex pass is ("floor4"); and
-//! `cut_edits`, the same cut returned as edits (no new mesh built).
+//! all vertices (view-projection, divide, viewport into a screen array kept between runs), and
+//! against a clone of the mesh (the cost of any function returning a new mesh), in one run;
+//! the floor also written with AVX2 as the cut's vertex pass is ("floor4"); and `cut_edits`,
+//! the same cut returned as edits (no new mesh built).
 //! Goal: ≤ 3 × the floor on 1M triangles with a 50-point stroke. Meshes: triangulated tori of
 //! 10k, 100k and 1M triangles, and the shared `spot_quadrangulated.obj` subdivided 4 times and
 //! triangulated (1.5M triangles). Both modes; all cores (the machine has 2). A table of
-//! medians and ratios is printed at the end.
+//! medians over interleaved rounds, and ratios, is printed at the end.
 
 use std::time::{Duration, Instant};
 
@@ -77,10 +77,11 @@ fn stroke() -> Stroke {
     )
 }
 
-/// The floor: every vertex through the view-projection matrix and viewport.
-fn project_all(mesh: &PolyMesh, view: &View) -> Vec<DVec2> {
+/// The floor: every vertex through the view-projection matrix and viewport, into `out`
+/// (kept between runs, so the floor is the pass alone: a fresh array's page faults cost
+/// from nothing to more than the pass, depending on the allocator's state).
+fn project_all(mesh: &PolyMesh, view: &View, out: &mut Vec<DVec2>) {
     let (vp, v) = (view.view_proj, view.viewport);
-    let mut out = Vec::new();
     mesh.positions()
         .par_iter()
         .with_min_len(1 << 14)
@@ -92,18 +93,18 @@ fn project_all(mesh: &PolyMesh, view: &View) -> Vec<DVec2> {
                 v[1] + (1.0 - c.y * inv) * 0.5 * v[3],
             )
         })
-        .collect_into_vec(&mut out);
-    out
+        .collect_into_vec(out);
 }
 
 /// The floor written the way the cut's vertex pass is: four vertices at a time with AVX2 (on
 /// CPUs without it, the plain floor), so the cut is also measured against a projection pass
 /// as hand-tuned as its own.
-fn project_all_avx2(mesh: &PolyMesh, view: &View) -> Vec<DVec2> {
+fn project_all_avx2(mesh: &PolyMesh, view: &View, out: &mut Vec<DVec2>) {
     #[cfg(target_arch = "x86_64")]
     if std::arch::is_x86_feature_detected!("avx2") {
         let ps = mesh.positions();
-        let mut out: Vec<DVec2> = Vec::with_capacity(ps.len());
+        out.clear();
+        out.reserve(ps.len());
         out.spare_capacity_mut()[..ps.len()]
             .par_chunks_mut(1 << 14)
             .zip(ps.par_chunks(1 << 14))
@@ -111,9 +112,9 @@ fn project_all_avx2(mesh: &PolyMesh, view: &View) -> Vec<DVec2> {
             .for_each(|(o, p)| unsafe { avx2::project(view, p, o) });
         // SAFETY: every element was written.
         unsafe { out.set_len(ps.len()) };
-        return out;
+        return;
     }
-    project_all(mesh, view)
+    project_all(mesh, view, out)
 }
 
 #[cfg(target_arch = "x86_64")]
@@ -190,16 +191,18 @@ mod avx2 {
     }
 }
 
-fn median(mut f: impl FnMut(), runs: usize) -> Duration {
-    let mut t: Vec<Duration> = (0..runs)
-        .map(|_| {
-            let s = Instant::now();
-            f();
-            s.elapsed()
-        })
-        .collect();
+/// Rounds of the side-by-side measurement.
+const ROUNDS: usize = 9;
+
+fn time(f: impl FnOnce()) -> Duration {
+    let s = Instant::now();
+    f();
+    s.elapsed()
+}
+
+fn median(mut t: Vec<Duration>) -> Duration {
     t.sort();
-    t[runs / 2]
+    t[t.len() / 2]
 }
 
 fn cut(c: &mut Criterion) {
@@ -212,10 +215,12 @@ fn cut(c: &mut Criterion) {
         g.warm_up_time(Duration::from_millis(300));
         g.measurement_time(Duration::from_secs(2));
         g.bench_function("floor: project all vertices", |b| {
-            b.iter_with_large_drop(|| project_all(&mesh, &view))
+            let mut out = Vec::new();
+            b.iter(|| project_all(&mesh, &view, &mut out))
         });
         g.bench_function("floor, AVX2: project all vertices", |b| {
-            b.iter_with_large_drop(|| project_all_avx2(&mesh, &view))
+            let mut out = Vec::new();
+            b.iter(|| project_all_avx2(&mesh, &view, &mut out))
         });
         g.bench_function("clone the mesh", |b| {
             b.iter_with_large_drop(|| mesh.clone())
@@ -232,13 +237,11 @@ fn cut(c: &mut Criterion) {
             );
         }
         g.finish();
-        // Side by side, interleaved, for the ratio.
-        let runs = 9;
-        let floor = median(
-            || drop(std::hint::black_box(project_all(&mesh, &view))),
-            runs,
-        );
-        let (plain, fast) = (project_all(&mesh, &view), project_all_avx2(&mesh, &view));
+        // Side by side for the ratios: every measurement once per round, medians over the
+        // rounds (this machine's speed drifts; interleaving keeps the ratios fair).
+        let (mut plain, mut fast) = (Vec::new(), Vec::new());
+        project_all(&mesh, &view, &mut plain);
+        project_all_avx2(&mesh, &view, &mut fast);
         let worst = plain
             .iter()
             .zip(&fast)
@@ -248,44 +251,49 @@ fn cut(c: &mut Criterion) {
             worst < 1e-6,
             "the AVX2 floor projects elsewhere ({worst} px)"
         );
-        let floor4 = median(
-            || drop(std::hint::black_box(project_all_avx2(&mesh, &view))),
-            runs,
-        );
-        let copy = median(|| drop(std::hint::black_box(mesh.clone())), runs);
-        for mode in [CutMode::VisibleOnly, CutMode::ThroughAll] {
-            let o = CutOptions::with_mode(mode);
-            let out = cut_by_stroke(&mesh, &s, &view, &o).unwrap();
-            let t = median(
-                || {
+        let modes = [CutMode::VisibleOnly, CutMode::ThroughAll];
+        let opts = modes.map(CutOptions::with_mode);
+        let mut times: Vec<Vec<Duration>> = vec![Vec::new(); 3 + 2 * modes.len()];
+        for _ in 0..ROUNDS {
+            times[0].push(time(|| {
+                project_all(&mesh, &view, &mut plain);
+                std::hint::black_box(&plain);
+            }));
+            times[1].push(time(|| {
+                project_all_avx2(&mesh, &view, &mut fast);
+                std::hint::black_box(&fast);
+            }));
+            times[2].push(time(|| drop(std::hint::black_box(mesh.clone()))));
+            for (k, o) in opts.iter().enumerate() {
+                times[3 + 2 * k].push(time(|| {
                     drop(std::hint::black_box(
-                        cut_by_stroke(&mesh, &s, &view, &o).unwrap(),
+                        cut_by_stroke(&mesh, &s, &view, o).unwrap(),
                     ))
-                },
-                runs,
-            );
-            let te = median(
-                || {
+                }));
+                times[4 + 2 * k].push(time(|| {
                     drop(std::hint::black_box(
-                        cut_edits(&mesh, &s, &view, &o).unwrap(),
+                        cut_edits(&mesh, &s, &view, o).unwrap(),
                     ))
-                },
-                runs,
-            );
+                }));
+            }
+        }
+        let m: Vec<Duration> = times.into_iter().map(median).collect();
+        for (k, (mode, o)) in modes.iter().zip(&opts).enumerate() {
+            let out = cut_by_stroke(&mesh, &s, &view, o).unwrap();
             table.push((
                 name.clone(),
                 format!("{mode:?}"),
-                floor,
-                floor4,
-                copy,
-                t,
-                te,
+                m[0],
+                m[1],
+                m[2],
+                m[3 + 2 * k],
+                m[4 + 2 * k],
                 out.report.new_faces,
                 out.report.paths.len(),
             ));
         }
     }
-    eprintln!("\nstroke cut, 50-point stroke, medians of 9 runs (all cores):");
+    eprintln!("\nstroke cut, 50-point stroke, medians of {ROUNDS} interleaved rounds (all cores):");
     eprintln!(
         "(floor: one projection pass; floor4: the same with AVX2, as the cut's vertex pass is \
          written; clone: PolyMesh::clone, what any new output costs)"

@@ -198,7 +198,7 @@ impl Region {
 }
 
 /// Whether face `t` comes within `margin` of the stroke on screen: `Some(whether the stroke
-/// meets it)` ([`segment_meets_triangle`]; L is measured on those), or `None`. Plain f64
+/// meets it)` ([`segment_and_triangle`]; L is measured on those), or `None`. Plain f64
 /// with a relative slack on the margin: membership only needs to be conservative (a face
 /// around a vertex within the margin is at most as far as that vertex, by the same
 /// arithmetic), and L is a mean; every topological decision is taken later by exact

@@ -6,7 +6,8 @@
 //! Goal: ≤ 3 × the floor on 1M triangles with a 50-point stroke. Meshes: triangulated tori of
 //! 10k, 100k and 1M triangles, and the shared `spot_quadrangulated.obj` subdivided 4 times and
 //! triangulated (1.5M triangles). Both modes; all cores (the machine has 2). A table of
-//! medians over interleaved rounds, and ratios, is printed at the end.
+//! medians over interleaved rounds, and ratios, is printed at the end: warm (each call right
+//! after the same call) and cold (right after the caches were evicted).
 
 use std::time::{Duration, Instant};
 
@@ -208,6 +209,7 @@ fn median(mut t: Vec<Duration>) -> Duration {
 fn cut(c: &mut Criterion) {
     let s = stroke();
     let mut table = Vec::new();
+    let mut evict = Evictor::new();
     for (name, mesh) in meshes() {
         let view = view_of(&mesh);
         let mut g = c.benchmark_group(format!("cut {name}"));
@@ -253,53 +255,79 @@ fn cut(c: &mut Criterion) {
         );
         let modes = [CutMode::VisibleOnly, CutMode::ThroughAll];
         let opts = modes.map(CutOptions::with_mode);
-        let mut times: Vec<Vec<Duration>> = vec![Vec::new(); 3 + 2 * modes.len()];
+        // Warm: each call timed right after the same call untimed (steady state, as criterion
+        // measures it), so no call pays for the caches its predecessor in the round filled
+        // with something else (a new mesh evicts the input). Cold: right after the caches
+        // were evicted, as a one-off call on a mesh the host has not touched lately.
+        let mut warm: Vec<Vec<Duration>> = vec![Vec::new(); 3 + 2 * modes.len()];
+        let mut cold: Vec<Vec<Duration>> = vec![Vec::new(); 1 + modes.len()];
         for _ in 0..ROUNDS {
-            times[0].push(time(|| {
+            let twice = |f: &mut dyn FnMut()| {
+                f();
+                time(f)
+            };
+            warm[0].push(twice(&mut || {
                 project_all(&mesh, &view, &mut plain);
                 std::hint::black_box(&plain);
             }));
-            times[1].push(time(|| {
+            warm[1].push(twice(&mut || {
                 project_all_avx2(&mesh, &view, &mut fast);
                 std::hint::black_box(&fast);
             }));
-            times[2].push(time(|| drop(std::hint::black_box(mesh.clone()))));
+            warm[2].push(twice(&mut || drop(std::hint::black_box(mesh.clone()))));
             for (k, o) in opts.iter().enumerate() {
-                times[3 + 2 * k].push(time(|| {
+                warm[3 + 2 * k].push(twice(&mut || {
                     drop(std::hint::black_box(
                         cut_by_stroke(&mesh, &s, &view, o).unwrap(),
                     ))
                 }));
-                times[4 + 2 * k].push(time(|| {
+                warm[4 + 2 * k].push(twice(&mut || {
+                    drop(std::hint::black_box(
+                        cut_edits(&mesh, &s, &view, o).unwrap(),
+                    ))
+                }));
+            }
+            evict.run();
+            cold[0].push(time(|| {
+                project_all(&mesh, &view, &mut plain);
+                std::hint::black_box(&plain);
+            }));
+            for (k, o) in opts.iter().enumerate() {
+                evict.run();
+                cold[1 + k].push(time(|| {
                     drop(std::hint::black_box(
                         cut_edits(&mesh, &s, &view, o).unwrap(),
                     ))
                 }));
             }
         }
-        let m: Vec<Duration> = times.into_iter().map(median).collect();
+        let m: Vec<Duration> = warm.into_iter().map(median).collect();
+        let c: Vec<Duration> = cold.into_iter().map(median).collect();
         for (k, (mode, o)) in modes.iter().zip(&opts).enumerate() {
             let out = cut_by_stroke(&mesh, &s, &view, o).unwrap();
-            table.push((
-                name.clone(),
-                format!("{mode:?}"),
-                m[0],
-                m[1],
-                m[2],
-                m[3 + 2 * k],
-                m[4 + 2 * k],
-                out.report.new_faces,
-                out.report.paths.len(),
-            ));
+            table.push(Row {
+                name: name.clone(),
+                mode: format!("{mode:?}"),
+                floor: m[0],
+                floor4: m[1],
+                clone: m[2],
+                cut: m[3 + 2 * k],
+                edits: m[4 + 2 * k],
+                cold_floor: c[0],
+                cold_edits: c[1 + k],
+                new_faces: out.report.new_faces,
+                paths: out.report.paths.len(),
+            });
         }
     }
     eprintln!("\nstroke cut, 50-point stroke, medians of {ROUNDS} interleaved rounds (all cores):");
     eprintln!(
         "(floor: one projection pass; floor4: the same with AVX2, as the cut's vertex pass is \
-         written; clone: PolyMesh::clone, what any new output costs)"
+         written; clone: PolyMesh::clone, what any new output costs; warm: each call right after \
+         the same call; cold: right after evicting the caches)"
     );
     eprintln!(
-        "{:<28} {:<12} {:>9} {:>9} {:>9} {:>9} {:>7} {:>8} {:>9} {:>7} {:>8} {:>9} {:>6}",
+        "{:<28} {:<12} {:>9} {:>9} {:>9} {:>9} {:>7} {:>8} {:>9} {:>7} {:>8} {:>10} {:>10} {:>6} {:>9} {:>6}",
         "mesh",
         "mode",
         "floor",
@@ -311,27 +339,73 @@ fn cut(c: &mut Criterion) {
         "edits",
         "/floor",
         "/floor4",
+        "cold floor",
+        "cold edits",
+        "/floor",
         "new faces",
         "paths"
     );
-    for (name, mode, floor, floor4, copy, t, te, nf, np) in table {
-        let ms = |d: Duration| d.as_secs_f64() * 1e3;
+    let ms = |d: Duration| d.as_secs_f64() * 1e3;
+    for r in table {
         eprintln!(
-            "{:<28} {:<12} {:>7.2}ms {:>7.2}ms {:>7.2}ms {:>7.2}ms {:>6.1}x {:>7.1}x {:>7.2}ms {:>6.1}x {:>7.1}x {:>9} {:>6}",
-            name,
-            mode,
-            ms(floor),
-            ms(floor4),
-            ms(copy),
-            ms(t),
-            ms(t) / ms(floor),
-            ms(t) / ms(copy),
-            ms(te),
-            ms(te) / ms(floor),
-            ms(te) / ms(floor4),
-            nf,
-            np
+            "{:<28} {:<12} {:>7.2}ms {:>7.2}ms {:>7.2}ms {:>7.2}ms {:>6.1}x {:>7.1}x {:>7.2}ms {:>6.2}x {:>7.1}x {:>8.2}ms {:>8.2}ms {:>5.2}x {:>9} {:>6}",
+            r.name,
+            r.mode,
+            ms(r.floor),
+            ms(r.floor4),
+            ms(r.clone),
+            ms(r.cut),
+            ms(r.cut) / ms(r.floor),
+            ms(r.cut) / ms(r.clone),
+            ms(r.edits),
+            ms(r.edits) / ms(r.floor),
+            ms(r.edits) / ms(r.floor4),
+            ms(r.cold_floor),
+            ms(r.cold_edits),
+            ms(r.cold_edits) / ms(r.cold_floor),
+            r.new_faces,
+            r.paths
         );
+    }
+}
+
+/// One line of the table (medians).
+struct Row {
+    name: String,
+    mode: String,
+    floor: Duration,
+    floor4: Duration,
+    clone: Duration,
+    cut: Duration,
+    edits: Duration,
+    cold_floor: Duration,
+    cold_edits: Duration,
+    new_faces: u32,
+    paths: usize,
+}
+
+/// Evicts the caches by writing a buffer larger than the last-level cache of the machines
+/// this runs on (32 MiB here).
+struct Evictor {
+    buf: Vec<u64>,
+    round: u64,
+}
+
+impl Evictor {
+    fn new() -> Self {
+        Evictor {
+            buf: vec![0; 16 << 20],
+            round: 0,
+        }
+    }
+
+    fn run(&mut self) {
+        self.round += 1;
+        let r = self.round;
+        self.buf
+            .par_chunks_mut(1 << 16)
+            .for_each(|c| c.iter_mut().for_each(|x| *x = x.wrapping_add(r)));
+        std::hint::black_box(&self.buf);
     }
 }
 

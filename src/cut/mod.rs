@@ -116,8 +116,10 @@ pub fn cut_by_stroke(
     view: &View,
     options: &CutOptions,
 ) -> Result<CutOutput> {
-    let (edits, tris) = plan(mesh, stroke, view, options)?;
-    edits.apply_to(mesh, &tris)
+    on_pool(|| {
+        let (edits, tris) = plan(mesh, stroke, view, options)?;
+        edits.apply_to(mesh, &tris)
+    })
 }
 
 /// [`cut_by_stroke`] without building the new mesh: what the cut changes, as edits to the
@@ -129,7 +131,15 @@ pub fn cut_edits(
     view: &View,
     options: &CutOptions,
 ) -> Result<CutEdits> {
-    Ok(plan(mesh, stroke, view, options)?.0)
+    on_pool(|| Ok(plan(mesh, stroke, view, options)?.0))
+}
+
+/// Runs `f` on a worker of the current rayon pool (in place when already on one). The cut's
+/// dozen parallel steps then start from inside the pool: called from outside, each would
+/// hand its work over to the pool and put the caller to sleep until it is done, a round
+/// trip through the scheduler that costs more than a small step itself.
+fn on_pool<R: Send>(f: impl FnOnce() -> R + Send) -> R {
+    rayon::scope(|_| f())
 }
 
 /// The cut's steps (seed 002 §3.4's list, spec §4), up to the edits.

@@ -22,10 +22,12 @@ use crate::mesh::VertexId;
 /// Vertex code for "behind the eye".
 pub(crate) const BEHIND: u32 = u32::MAX;
 const CHUNK: usize = 1 << 14;
+/// Faces rejected together in pass 2 (a divisor of `CHUNK`).
+const BLOCK: usize = 16;
 /// How far (in cells) the "near" marks reach around the band: faces spanning up to this many
 /// cells are rejected from their corners' bits alone. Cells are about one mean edge long and
 /// edges vary, so 1 sent a quarter of a dense mesh's faces to the slow test; 4 sends few
-/// and suits [`surely_away`]'s lanes.
+/// and suits [`not_away`]'s lanes.
 const NEAR_RING: u32 = 4;
 /// The second, tighter ring: the slow test rejects faces spanning at most this many cells
 /// whose corners are all outside it without looking at the grid.
@@ -44,7 +46,6 @@ pub(crate) struct CellGrid {
     pub nx: i32,
     pub ny: i32,
     inv_cell: f64,
-    marked: Vec<bool>,
     /// Marked cells ([`MARKED`]) grown by [`NEAR_RING`] cells each way ([`NEAR`]) and by
     /// [`CLOSE_RING`] ([`CLOSE`] too), on the grid with its outside ring: a face none of whose corners is in
     /// a ring touches a marked cell only if it spans more cells than the ring is wide (its
@@ -86,7 +87,6 @@ impl CellGrid {
         // Codes hold x + 1 in 16 bits and y + 1 in 13.
         debug_assert!(nx + 2 <= 0xffff && ny + 2 <= 0x1fff);
         let inv_cell = 1.0 / cell;
-        let mut marked = vec![false; ncell];
         let mut pairs: Vec<(u32, u32)> = Vec::new();
         let half_diag = cell * std::f64::consts::FRAC_1_SQRT_2;
         for (si, &(a, b)) in segments.iter().enumerate() {
@@ -102,27 +102,23 @@ impl CellGrid {
                     // Conservative: the cell may hold a point within `margin` of the segment.
                     if within(centre, a, b, margin + half_diag * 1.0001) {
                         let c = (cy * nx + cx) as usize;
-                        marked[c] = true;
                         pairs.push((c as u32, si as u32));
                     }
                 }
             }
         }
         pairs.sort_unstable();
-        // Dilations by NEAR_RING, then CLOSE_RING cells (Chebyshev): a row span per marked
-        // cell and row (the marked cells are a thin band, so this beats passes over the whole
-        // grid). With the outside ring (never near), indexed by code: (cy + 1)·(nx + 2) + cx + 1.
+        // Dilations by NEAR_RING, then CLOSE_RING cells (Chebyshev), from the runs of marked
+        // cells along each row (pairs are in row-major cell order): one span per run and
+        // row it reaches. The band is thin and mostly along rows, so this writes a few spans
+        // where a span per cell wrote thousands. With the outside ring (never near), indexed
+        // by code: (cy + 1)·(nx + 2) + cx + 1.
         let mut near = vec![0u8; ((nx + 2) * (ny + 2)) as usize];
+        let runs = marked_runs(&pairs, nx as u32);
         for (r, flags) in [(NEAR_RING, NEAR), (CLOSE_RING, NEAR | CLOSE)] {
             let r = r as i32;
-            let mut last = u32::MAX;
-            for &(c, _) in &pairs {
-                if c == last {
-                    continue;
-                }
-                last = c;
-                let (cx, cy) = ((c % nx as u32) as i32, (c / nx as u32) as i32);
-                let (x0, x1) = ((cx - r).max(0), (cx + r).min(nx - 1));
+            for &(cy, a, b) in &runs {
+                let (x0, x1) = ((a - r).max(0), (b + r).min(nx - 1));
                 for y in (cy - r).max(0)..(cy + r).min(ny - 1) + 1 {
                     let row = ((y + 1) * (nx + 2) + 1) as usize;
                     near[row + x0 as usize..=row + x1 as usize].fill(flags);
@@ -133,13 +129,17 @@ impl CellGrid {
             let (cx, cy) = (c % nx as u32, c / nx as u32);
             near[((cy + 1) * (nx as u32 + 2) + cx + 1) as usize] |= MARKED;
         }
-        let mut seg_start = vec![0u32; ncell + 1];
-        for &(c, _) in &pairs {
-            seg_start[c as usize + 1] += 1;
+        // CSR over all cells, written as one constant span per stretch between marked cells.
+        let mut seg_start = Vec::with_capacity(ncell + 1);
+        let mut i = 0;
+        while i < pairs.len() {
+            let c = pairs[i].0 as usize;
+            seg_start.resize(c + 1, i as u32);
+            while i < pairs.len() && pairs[i].0 as usize == c {
+                i += 1;
+            }
         }
-        for i in 0..ncell {
-            seg_start[i + 1] += seg_start[i];
-        }
+        seg_start.resize(ncell + 1, i as u32);
         let seg_list = pairs.into_iter().map(|(_, s)| s).collect();
         CellGrid {
             origin: lo,
@@ -147,7 +147,6 @@ impl CellGrid {
             nx,
             ny,
             inv_cell,
-            marked,
             near,
             seg_start,
             seg_list,
@@ -238,10 +237,11 @@ impl CellGrid {
         if x1 < 0 || y1 < 0 || x0 >= self.nx || y0 >= self.ny {
             return false;
         }
+        let stride = self.nx + 2;
         for cy in y0.max(0)..y1.min(self.ny - 1) + 1 {
-            let row = (cy * self.nx) as usize;
+            let row = ((cy + 1) * stride + 1) as usize;
             for cx in x0.max(0)..x1.min(self.nx - 1) + 1 {
-                if self.marked[row + cx as usize] {
+                if self.near[row + cx as usize] & MARKED != 0 {
                     return true;
                 }
             }
@@ -255,6 +255,20 @@ impl CellGrid {
         let c = (cy * self.nx + cx) as usize;
         &self.seg_list[self.seg_start[c] as usize..self.seg_start[c + 1] as usize]
     }
+}
+
+/// Runs of consecutive marked cells along rows, `(row, first, last)`, from `(cell, segment)`
+/// pairs sorted by cell (row-major, `nx` cells a row).
+fn marked_runs(pairs: &[(u32, u32)], nx: u32) -> Vec<(i32, i32, i32)> {
+    let mut runs: Vec<(i32, i32, i32)> = Vec::new();
+    for &(c, _) in pairs {
+        let (cx, cy) = ((c % nx) as i32, (c / nx) as i32);
+        match runs.last_mut() {
+            Some((y, _, b)) if *y == cy && cx - *b <= 1 => *b = cx,
+            _ => runs.push((cy, cx, cx)),
+        }
+    }
+    runs
 }
 
 /// The cell of `s` in a grid at `origin` with cells `1 / inv_cell` wide (unclamped).
@@ -320,7 +334,7 @@ pub(crate) fn vertex_codes(positions: &[DVec3], proj: &Projector, grid: &CellGri
     codes
 }
 
-/// Whether a face is surely away from every marked cell, from its corners' codes alone: no
+/// Zero when a face is surely away from every marked cell, from its corners' codes alone: no
 /// corner is near a marked cell, and corners 1 and 2 lie within `NEAR_RING` cells of corner
 /// 0 on both axes (differences in [-4, 3]), so the face's cell box lies within `NEAR_RING` of
 /// corner 0 and holds no marked cell. (A [`BEHIND`] corner has the near bit.) The scan's hot
@@ -328,12 +342,12 @@ pub(crate) fn vertex_codes(positions: &[DVec3], proj: &Projector, grid: &CellGri
 /// each 16-bit lane in [0, 7] exactly when the differences are in range; a lane out of
 /// range sets a bit above 2 in it (a negative low lane also borrows from the high one, which
 /// only adds bits).
-#[inline]
-fn surely_away(c: [u32; 3]) -> bool {
+#[inline(always)]
+fn not_away(c: [u32; 3]) -> u32 {
     const OFFSET: u32 = NEAR_RING | NEAR_RING << 16;
     let base = c[0].wrapping_sub(OFFSET);
     let spread = c[1].wrapping_sub(base) | c[2].wrapping_sub(base);
-    (spread & 0xfff8_fff8) | ((c[0] | c[1] | c[2]) >> 31) == 0
+    (spread & 0xfff8_fff8) | ((c[0] | c[1] | c[2]) >> 31)
 }
 
 /// Pass 2: the faces whose corners' cell box covers a marked cell, ascending, with their
@@ -353,26 +367,44 @@ pub(crate) fn candidate_faces(
             let base = (ci * CHUNK) as u32;
             let mut keep = Kept::default();
             let mut clipped = Vec::new();
-            for (i, t) in chunk.chunks_exact(3).enumerate() {
-                debug_assert!(t.iter().all(|v| v.idx() < codes.len()));
+            let code = |v: VertexId| {
+                debug_assert!(v.idx() < codes.len());
                 // SAFETY: a PolyMesh's corners name its vertices (every constructor checks
                 // it), and there is a code per vertex. Unchecked: an eighth of this pass.
-                let c = unsafe { [0, 1, 2].map(|k| *codes.get_unchecked(t[k].idx())) };
-                // Fast reject, the common case.
-                if surely_away(c) {
+                unsafe { *codes.get_unchecked(v.idx()) }
+            };
+            // Blocks of faces rejected together: one branch per block, not per face, took
+            // a quarter off this pass; a block with a face near the stroke is gone through
+            // again face by face (few are: faces near each other in the mesh are mostly near
+            // each other in the face order too).
+            for (bi, block) in chunk.chunks(3 * BLOCK).enumerate() {
+                // Fixed length (unrolled) but for a mesh's last block.
+                let near = match <&[VertexId; 3 * BLOCK]>::try_from(block) {
+                    Ok(b) => b.chunks_exact(3).fold(0, |acc, t| {
+                        acc | not_away([code(t[0]), code(t[1]), code(t[2])])
+                    }),
+                    Err(_) => 1,
+                };
+                if near == 0 {
                     continue;
                 }
-                let f = base + i as u32;
-                let behind = c.iter().filter(|&&x| x == BEHIND).count();
-                let straddles = behind > 0 && behind < 3;
-                if (behind == 0 && grid.any_marked(c)) || straddles {
-                    keep.faces.push(f);
-                    keep.corners.push([t[0].0, t[1].0, t[2].0]);
-                }
-                if straddles {
-                    // Never cut, but kept so an edge it shares with a cut face gets its split
-                    // vertex too (no T-junction).
-                    clipped.push(f);
+                for (i, t) in block.chunks_exact(3).enumerate() {
+                    let c = [code(t[0]), code(t[1]), code(t[2])];
+                    if not_away(c) == 0 {
+                        continue;
+                    }
+                    let f = base + (bi * BLOCK + i) as u32;
+                    let behind = c.iter().filter(|&&x| x == BEHIND).count();
+                    let straddles = behind > 0 && behind < 3;
+                    if (behind == 0 && grid.any_marked(c)) || straddles {
+                        keep.faces.push(f);
+                        keep.corners.push([t[0].0, t[1].0, t[2].0]);
+                    }
+                    if straddles {
+                        // Never cut, but kept so an edge it shares with a cut face gets its
+                        // split vertex too (no T-junction).
+                        clipped.push(f);
+                    }
                 }
             }
             (keep, clipped)

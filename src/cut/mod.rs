@@ -167,14 +167,22 @@ fn plan<'a>(
     // so L does not change and a second round always suffices.
     let l_guess = candidates::sample_edge_length(tm.positions(), tm.corners(), &proj);
     let mut margin = 1.5 * max_ratio * l_guess;
-    let (grid, clipped, mut region, l_px, l_world, degenerate_met) = loop {
+    let (grid, clipped, mut region, mut buckets, l_px, l_world, degenerate_met) = loop {
         let grid = CellGrid::new(&segs, margin, margin.max(l_guess));
         let codes = candidates::vertex_codes(tm.positions(), &proj, &grid);
         let (kept, clipped) = candidates::candidate_faces(tm.corners(), &codes, &grid);
-        let region = Region::build(tm, &kept, &grid, &segs, margin, &proj, options.mode)?;
+        let (region, buckets) = Region::build(tm, &kept, &grid, &segs, margin, &proj, options)?;
         let (l_px, l_world, degenerate_met) = region.mean_edge_length();
         if max_ratio * l_px <= margin {
-            break (grid, clipped, region, l_px, l_world, degenerate_met);
+            break (
+                grid,
+                clipped,
+                region,
+                buckets,
+                l_px,
+                l_world,
+                degenerate_met,
+            );
         }
         margin = 2.0 * max_ratio * l_px;
     };
@@ -194,7 +202,7 @@ fn plan<'a>(
         })
         .collect();
     let reach = max_ratio * l_px;
-    let buckets = FaceBuckets::new(&region, &grid, options.depth_eps_rel, reach);
+    buckets.narrow(reach);
     let seen_before: Vec<bool> = if visible_only {
         let near_stroke = |s: DVec2| {
             grid.range(s, s).is_some_and(|(cx, cy, _, _)| {

@@ -12,8 +12,9 @@ use rayon::prelude::*;
 
 use super::candidates::{point_segment_distance, segment_and_triangle, CellGrid, Kept};
 use super::geom::orient;
-use super::options::CutMode;
+use super::options::{CutMode, CutOptions};
 use super::view::{Projector, Seen};
+use super::visibility::FaceBuckets;
 use crate::error::{Error, Result};
 use crate::mesh::PolyMesh;
 
@@ -61,7 +62,8 @@ impl Region {
 
     /// `candidates`: triangles, ascending, a superset of those within `margin` of the stroke
     /// on screen ([`super::candidates::candidate_faces`]); the region keeps those, and the
-    /// faces straddling the eye plane.
+    /// faces straddling the eye plane. With the region, its faces bucketed for visibility
+    /// tests (built here, beside the edge table).
     pub fn build(
         mesh: &PolyMesh,
         candidates: &Kept,
@@ -69,11 +71,13 @@ impl Region {
         segments: &[(DVec2, DVec2)],
         margin: f64,
         proj: &Projector,
-        mode: CutMode,
-    ) -> Result<Region> {
+        options: &CutOptions,
+    ) -> Result<(Region, FaceBuckets)> {
+        let (mode, depth_eps_rel) = (options.mode, options.depth_eps_rel);
         let (verts, tri) = local_ids(&candidates.corners, mesh.vertex_count() as usize);
         let seen: Vec<Option<Seen>> = verts
-            .iter()
+            .par_iter()
+            .with_min_len(1024)
             .map(|&g| proj.see(mesh.positions()[g as usize]))
             .collect();
         // Membership measured on screen, each vertex projected once.
@@ -93,32 +97,32 @@ impl Region {
             .iter()
             .map(|&g| mesh.positions()[g as usize])
             .collect();
-        // The edge table beside the per-vertex and per-face data.
-        let (edge_table, (complete, (vf_start, vf_list), (sign, cuttable, degenerate))) =
-            rayon::join(
-                || edge_table(&tri, &verts),
-                || {
-                    // Within the margin of the stroke: every face around is kept.
-                    let complete: Vec<bool> = seen
-                        .iter()
-                        .map(|s| {
-                            let Some(s) = s else { return false };
-                            grid.range(s.screen, s.screen)
-                                .is_some_and(|(cx, cy, _, _)| {
-                                    grid.segments_at(cx, cy).iter().any(|&k| {
-                                        let (a, b) = segments[k as usize];
-                                        point_segment_distance(s.screen, a, b) <= margin
-                                    })
-                                })
+        let (sign, cuttable, degenerate) = face_signs(&tri, &seen, &pos, mode);
+        // The visibility buckets (the longest) beside the edge table and the per-vertex
+        // data. The buckets' boxes are grown by the margin, which bounds the snap distance.
+        let complete_vf = || {
+            // Within the margin of the stroke: every face around is kept.
+            let complete: Vec<bool> = seen
+                .iter()
+                .map(|s| {
+                    let Some(s) = s else { return false };
+                    grid.range(s.screen, s.screen)
+                        .is_some_and(|(cx, cy, _, _)| {
+                            grid.segments_at(cx, cy).iter().any(|&k| {
+                                let (a, b) = segments[k as usize];
+                                point_segment_distance(s.screen, a, b) <= margin
+                            })
                         })
-                        .collect();
-                    let vf = vertex_faces_csr(&tri, verts.len());
-                    let signs = face_signs(&tri, &seen, &pos, mode);
-                    (complete, vf, signs)
-                },
-            );
+                })
+                .collect();
+            (complete, vertex_faces_csr(&tri, verts.len()))
+        };
+        let (buckets, (edge_table, (complete, (vf_start, vf_list)))) = rayon::join(
+            || FaceBuckets::new(&tri, &sign, &seen, &pos, grid, depth_eps_rel, margin),
+            || rayon::join(|| edge_table(&tri, &verts), complete_vf),
+        );
         let (face_edges, edges, edge_faces) = edge_table?;
-        Ok(Region {
+        let region = Region {
             faces,
             tri,
             verts,
@@ -134,7 +138,8 @@ impl Region {
             cuttable,
             degenerate,
             meets,
-        })
+        };
+        Ok((region, buckets))
     }
 
     /// Faces around local vertex `v`, ascending.
@@ -335,11 +340,31 @@ fn local_ids(corners: &[[u32; 3]], nv: usize) -> (Vec<u32>, Vec<[u32; 3]>) {
             x &= x - 1;
         }
     }
-    for v in tri.as_flattened_mut() {
+    #[cfg(target_arch = "x86_64")]
+    if std::arch::is_x86_feature_detected!("popcnt") {
+        // SAFETY: the CPU has POPCNT.
+        unsafe { rank_popcnt(tri.as_flattened_mut(), &bits, &below) };
+        return (verts, tri);
+    }
+    rank(tri.as_flattened_mut(), &bits, &below);
+    (verts, tri)
+}
+
+/// Global ids to ranks among the marked bits ([`local_ids`]).
+#[inline(always)]
+fn rank(ids: &mut [u32], bits: &[u64], below: &[u32]) {
+    for v in ids {
         let w = (*v >> 6) as usize;
         *v = below[w] + (bits[w] & ((1u64 << (*v & 63)) - 1)).count_ones();
     }
-    (verts, tri)
+}
+
+/// [`rank`] with the POPCNT instruction, which the baseline x86-64 target lacks (its
+/// portable popcount made this loop three times as slow).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "popcnt")]
+unsafe fn rank_popcnt(ids: &mut [u32], bits: &[u64], below: &[u32]) {
+    rank(ids, bits, below)
 }
 
 /// The local edges of `tri`: each face's edge per corner, each edge's ends (ascending) and

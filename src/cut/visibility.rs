@@ -17,6 +17,7 @@
 //! triangle to bucket); a face that close to the camera rarely sits in front of a stroke.
 
 use glam::{DVec2, DVec3};
+use rayon::prelude::*;
 
 use super::candidates::{cell_of, CellGrid};
 use super::geom::{barycentric, in_triangle};
@@ -32,10 +33,15 @@ pub(crate) struct FaceBuckets {
     start: Vec<u32>,
     list: Vec<Entry>,
     eps_world: f64,
+    /// How far the buckets reach around each face (the cells hold its box grown by this).
+    slack: f64,
+    /// How far queries grow an entry's box ([`Self::narrow`]), a little over the slack
+    /// asked for, so that the box test rounds outwards.
+    pad: f64,
 }
 
-/// A face in a bucket with its screen box grown by the slack and rounded outwards to f32,
-/// and its nearest corner depth rounded down: most entries are rejected by the box, read in
+/// A face in a bucket with its screen box rounded outwards to f32 (queries grow it by the
+/// pad), and its nearest corner depth rounded down: most entries are rejected by the box, read in
 /// line with the bucket instead of from three vertices, and a bucket (sorted by `near`)
 /// stops at the first face wholly behind the point.
 #[derive(Debug, Clone, Copy, Default)]
@@ -60,8 +66,19 @@ fn up(x: f64) -> f32 {
 
 impl FaceBuckets {
     /// Buckets of the region's faces; each face's screen box is grown by `slack` pixels so
-    /// the buckets stay valid while vertices move that far (snapping).
-    pub fn new(region: &Region, grid: &CellGrid, depth_eps_rel: f64, slack: f64) -> Self {
+    /// the buckets stay valid while vertices move that far (snapping); [`Self::narrow`]
+    /// tightens the box test once the actual snap distance is known.
+    /// The faces are `tri` (local vertex ids) with screen orientations `sign` (0: not
+    /// bucketed), their vertices seen as `seen` at `pos`.
+    pub fn new(
+        tri: &[[u32; 3]],
+        sign: &[f64],
+        seen: &[Option<Seen>],
+        pos: &[DVec3],
+        grid: &CellGrid,
+        depth_eps_rel: f64,
+        slack: f64,
+    ) -> Self {
         // Buckets over the stroke grid's area, about two faces wide: the region's faces lie
         // in a band along the stroke, so sizing cells by area per face would put dozens of
         // faces in each (the stroke grid's cells are too coarse for point queries too).
@@ -70,12 +87,12 @@ impl FaceBuckets {
             DVec2::new(grid.nx as f64, grid.ny as f64) * grid.cell,
         );
         // Screen boxes of the projectable faces.
-        let screen_boxes: Vec<Option<(DVec2, DVec2)>> = (0..region.tri.len() as u32)
-            .map(|lf| {
-                region.projectable(lf).then(|| {
-                    let [a, b, c] = region.face_screen(lf);
-                    (a.min(b).min(c), a.max(b).max(c))
-                })
+        let screen_boxes: Vec<Option<(DVec2, DVec2)>> = tri
+            .par_iter()
+            .with_min_len(1024)
+            .map(|t| {
+                let [a, b, c] = t.map(|v| seen[v as usize].map(|s| s.screen));
+                Some((a?.min(b?).min(c?), a?.max(b?).max(c?)))
             })
             .collect();
         let (mut size, mut n) = (0.0, 0u32);
@@ -93,7 +110,7 @@ impl FaceBuckets {
         let ny = ((ext.y / cell).ceil() as i32).max(1);
         let ncell = (nx * ny) as usize;
         let (mut lo, mut hi) = (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
-        for &p in &region.pos {
+        for &p in pos {
             lo = lo.min(p);
             hi = hi.max(p);
         }
@@ -102,33 +119,38 @@ impl FaceBuckets {
         let inv_cell = 1.0 / cell;
         let range = |a: DVec2, b: DVec2| cell_range(origin, inv_cell, nx, ny, a, b);
         let pad = DVec2::splat(slack);
-        // Each bucketed face's cell range and entry, both from its box grown by the slack
-        // (snapping moves vertices after this).
-        // (Reserved up front: growing these by doubling cost more than filling them.)
-        let mut boxes: Vec<(CellRange, Entry)> = Vec::with_capacity(screen_boxes.len());
-        let mut order: Vec<(u32, u32)> = Vec::with_capacity(screen_boxes.len());
-        for (lf, (b, &sign)) in screen_boxes.iter().zip(&region.sign).enumerate() {
-            let Some((lo, hi)) = b else { continue };
-            if sign == 0.0 {
-                continue;
-            }
-            let (lo, hi) = (*lo - pad, *hi + pad);
-            let z = region.tri[lf].map(|v| region.seen[v as usize].map_or(0.0, |s| s.z));
-            let entry = Entry {
-                face: lf as u32,
-                near: down(z[0].min(z[1]).min(z[2])),
-                lo: [down(lo.x), down(lo.y)],
-                hi: [up(hi.x), up(hi.y)],
-            };
-            if let Some(r) = range(lo, hi) {
-                order.push((f32_key(entry.near), boxes.len() as u32));
-                boxes.push((r, entry));
-            }
-        }
+        // Each bucketed face's cell range, from its box grown by the slack (snapping moves
+        // vertices after this), and entry.
+        let boxes: Vec<Option<(CellRange, Entry)>> = screen_boxes
+            .par_iter()
+            .zip(sign)
+            .enumerate()
+            .with_min_len(1024)
+            .map(|(lf, (b, &sign))| {
+                let (lo, hi) = (*b)?;
+                if sign == 0.0 {
+                    return None;
+                }
+                let cells = range(lo - pad, hi + pad)?;
+                let z = tri[lf].map(|v| seen[v as usize].map_or(0.0, |s| s.z));
+                let entry = Entry {
+                    face: lf as u32,
+                    near: down(z[0].min(z[1]).min(z[2])),
+                    lo: [down(lo.x), down(lo.y)],
+                    hi: [up(hi.x), up(hi.y)],
+                };
+                Some((cells, entry))
+            })
+            .collect();
+        let mut order: Vec<(u32, u32)> = boxes
+            .iter()
+            .enumerate()
+            .filter_map(|(i, b)| b.map(|(_, e)| (f32_key(e.near), i as u32)))
+            .collect();
         // Nearest first (ties by face), so every bucket is sorted by `near` for `hidden`.
         sort_by_key(&mut order);
         let mut start = vec![0u32; ncell + 1];
-        for &((x0, y0, x1, y1), _) in &boxes {
+        for &((x0, y0, x1, y1), _) in boxes.iter().flatten() {
             for cy in y0..y1 + 1 {
                 for cx in x0..x1 + 1 {
                     start[(cy * nx + cx) as usize + 1] += 1;
@@ -139,18 +161,24 @@ impl FaceBuckets {
             start[i + 1] += start[i];
         }
         let mut fill = start.clone();
-        let mut list = vec![Entry::default(); start[ncell] as usize];
+        let n = start[ncell] as usize;
+        let mut list: Vec<Entry> = Vec::with_capacity(n);
+        let slots = &mut list.spare_capacity_mut()[..n];
         for &(_, i) in &order {
-            let ((x0, y0, x1, y1), entry) = boxes[i as usize];
+            let Some(((x0, y0, x1, y1), entry)) = boxes[i as usize] else {
+                unreachable!("ordered entries are bucketed")
+            };
             for cy in y0..y1 + 1 {
                 for cx in x0..x1 + 1 {
                     let c = (cy * nx + cx) as usize;
-                    list[fill[c] as usize] = entry;
+                    slots[fill[c] as usize].write(entry);
                     fill[c] += 1;
                 }
             }
         }
-        let diag = if region.pos.is_empty() {
+        // SAFETY: the counts made room for exactly the entries written, each slot once.
+        unsafe { list.set_len(n) };
+        let diag = if pos.is_empty() {
             0.0
         } else {
             (hi - lo).length()
@@ -163,7 +191,17 @@ impl FaceBuckets {
             start,
             list,
             eps_world: depth_eps_rel * diag,
+            slack,
+            pad: slack * (1.0 + 1e-9),
         }
+    }
+
+    /// Box tests grown by `slack` (at most the slack built with) from now on: the buckets
+    /// are built before the snap distance is known, with a bound on it. The pad's extra
+    /// billionth covers rounding `lo − pad` (and `hi + pad`) to nearest; the boxes' own
+    /// outward rounding covers theirs.
+    pub fn narrow(&mut self, slack: f64) {
+        self.pad = slack.min(self.slack) * (1.0 + 1e-9);
     }
 
     /// Candidate faces whose screen box covers the cell of `s` (a superset of those holding
@@ -205,12 +243,12 @@ impl FaceBuckets {
             if e.near as f64 > z {
                 break;
             }
-            // Outside the face's (outward-rounded, grown by the snap slack) box is outside
+            // Outside the face's (outward-rounded, grown by the pad) box is outside
             // the face, before and after snapping; most bucket entries end here.
-            if s.x < e.lo[0] as f64
-                || s.y < e.lo[1] as f64
-                || s.x > e.hi[0] as f64
-                || s.y > e.hi[1] as f64
+            if s.x < e.lo[0] as f64 - self.pad
+                || s.y < e.lo[1] as f64 - self.pad
+                || s.x > e.hi[0] as f64 + self.pad
+                || s.y > e.hi[1] as f64 + self.pad
                 || own.contains(&e.face)
             {
                 continue;

@@ -11,7 +11,7 @@
 //! (gap-fill, spec §4 step 7) by flipping non-path diagonals. A chord that the insertions did
 //! not make an edge (several pieces in one face) is recovered by flips inside the face.
 
-use std::collections::HashMap;
+use rustc_hash::FxHashMap;
 
 use glam::{DVec2, DVec3};
 use rayon::prelude::*;
@@ -32,7 +32,7 @@ pub(crate) struct Splitter<'r> {
     /// Vertices on each local edge, by screen parameter from its first to its second end.
     edge_vertices: Vec<Vec<(f64, u32)>>,
     /// The vertex of each E or P element already placed.
-    placed: HashMap<Elem, u32>,
+    placed: FxHashMap<Elem, u32>,
     /// Screen distance under which a constructed point is an existing vertex (1e-9·L).
     eps_px: f64,
 }
@@ -46,7 +46,7 @@ impl<'r> Splitter<'r> {
             subs: vec![None; r.tri.len()],
             touched: Vec::new(),
             edge_vertices: vec![Vec::new(); r.edges.len()],
-            placed: HashMap::new(),
+            placed: FxHashMap::default(),
             eps_px: 1e-9 * l_px.max(1.0),
         }
     }

@@ -460,7 +460,8 @@ pub(crate) fn chains(
         elem_faces(region, o.elem, &mut faces);
         entries.extend(faces.iter().map(|&f| (f, i as u32)));
     }
-    entries.sort_unstable();
+    // By face, then position: the positions come ascending and the sort is stable.
+    super::radix::sort_by_key(&mut entries);
     let mut links: Vec<(u32, u32)> = Vec::new();
     for w in entries.windows(2) {
         let ((fx, x), (fy, y)) = (w[0], w[1]);

@@ -76,7 +76,8 @@ fn fig9(region: &Region, occ: &[Occ], a: &mut Vec<u32>) -> bool {
         elem_faces(region, occ[o as usize].elem, &mut scratch);
         entries.extend(scratch.iter().map(|&f| (f, k as u32)));
     }
-    entries.sort_unstable();
+    // By face, then position: the positions come ascending and the sort is stable.
+    super::radix::sort_by_key(&mut entries);
     let mut alive = vec![true; n];
     let mut next: Vec<usize> = (1..=n).collect();
     let mut removed_any = false;

@@ -8,8 +8,7 @@
 //! element; four independent chains run about three times as fast). Quarter q's elements of
 //! a digit go after quarter q − 1's, so the sort stays stable.
 
-const BITS: u32 = 11;
-const MASK: u32 = (1 << BITS) - 1;
+const MAX_BITS: u32 = 11;
 const WAYS: usize = 4;
 
 /// Sorts `pairs` by `.0`, keeping the order of equal keys.
@@ -20,44 +19,57 @@ pub(crate) fn sort_by_key(pairs: &mut Vec<(u32, u32)>) {
         return;
     }
     let max = pairs.iter().map(|k| k.0).max().unwrap_or(0);
+    let key_bits = 32 - max.leading_zeros();
+    if key_bits == 0 {
+        return;
+    }
+    // Digits as wide as pays: each pass reads and writes every pair and zeroes and sums
+    // WAYS × 2^bits counters, so a region's few thousand face ids (13 bits) sort in two
+    // passes of 7 bits rather than two of 11 (whose counters cost more than the pairs).
+    let (passes, bits) = (1..=4u32)
+        .map(|p| (p, key_bits.div_ceil(p)))
+        .filter(|&(_, b)| b <= MAX_BITS)
+        .min_by_key(|&(p, b)| p as usize * (2 * n + 2 * WAYS * (1usize << b)))
+        .expect("four passes of 8 bits cover 32");
+    let mask = (1u32 << bits) - 1;
     let mut tmp = vec![(0u32, 0u32); n];
     // Quarters [start[w], start[w + 1]); the first three are q long, the last takes the rest.
     let q = n / WAYS;
     let start = [0, q, 2 * q, 3 * q, n];
-    let mut shift = 0;
-    while shift < 32 && (max >> shift) > 0 {
-        let digit = |k: u32| ((k >> shift) & MASK) as usize;
-        let mut count = [[0u32; 1 << BITS]; WAYS];
+    let mut count = vec![[0u32; WAYS]; 1 << bits];
+    for pass in 0..passes {
+        let shift = pass * bits;
+        let digit = |k: u32| ((k >> shift) & mask) as usize;
+        count.iter_mut().for_each(|c| *c = [0; WAYS]);
         for i in 0..q {
             for w in 0..WAYS {
-                count[w][digit(pairs[start[w] + i].0)] += 1;
+                count[digit(pairs[start[w] + i].0)][w] += 1;
             }
         }
         for k in &pairs[start[3] + q..] {
-            count[3][digit(k.0)] += 1;
+            count[digit(k.0)][3] += 1;
         }
         // Offsets: by digit, then by quarter.
         let mut sum = 0;
-        for d in 0..1 << BITS {
-            for c in count.iter_mut() {
-                (c[d], sum) = (sum, sum + c[d]);
+        for c in count.iter_mut() {
+            for x in c.iter_mut() {
+                (*x, sum) = (sum, sum + *x);
             }
         }
         for i in 0..q {
             for w in 0..WAYS {
                 let k = pairs[start[w] + i];
-                let c = &mut count[w][digit(k.0)];
+                let c = &mut count[digit(k.0)][w];
                 tmp[*c as usize] = k;
                 *c += 1;
             }
         }
         for &k in &pairs[start[3] + q..] {
-            let c = &mut count[3][digit(k.0)];
+            let c = &mut count[digit(k.0)][3];
             tmp[*c as usize] = k;
             *c += 1;
         }
         std::mem::swap(pairs, &mut tmp);
-        shift += BITS;
     }
 }
 

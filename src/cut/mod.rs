@@ -78,6 +78,7 @@ mod report;
 mod snap;
 mod split;
 mod stroke;
+mod trace;
 mod triangulate;
 mod view;
 mod visibility;
@@ -149,6 +150,7 @@ fn plan<'a>(
     view: &View,
     options: &CutOptions,
 ) -> Result<(CutEdits, triangulate::Triangles<'a>)> {
+    let mut trace = trace::Trace::start();
     options.validate()?;
     let proj = view::Projector::new(view)?;
     let prep = stroke::prepare(stroke, options)?;
@@ -165,27 +167,29 @@ fn plan<'a>(
     // L is measured on the region: start from a sampled guess, grow if it was too small. The
     // faces L is measured on (those the stroke meets) are in the region whatever the margin,
     // so L does not change and a second round always suffices.
+    trace.mark("prepare");
     let l_guess = candidates::sample_edge_length(tm.positions(), tm.corners(), &proj);
     let mut margin = 1.5 * max_ratio * l_guess;
-    let (grid, clipped, mut region, mut buckets, l_px, l_world, degenerate_met) = loop {
+    let (grid, clipped, mut region, buckets, length, reach) = loop {
         let grid = CellGrid::new(&segs, margin, margin.max(l_guess));
+        trace.mark("grid");
         let codes = candidates::vertex_codes(tm.positions(), &proj, &grid);
+        trace.mark("codes");
         let (kept, clipped) = candidates::candidate_faces(tm.corners(), &codes, &grid);
-        let (region, buckets) = Region::build(tm, &kept, &grid, &segs, margin, &proj, options)?;
-        let (l_px, l_world, degenerate_met) = region.mean_edge_length();
-        if max_ratio * l_px <= margin {
-            break (
-                grid,
-                clipped,
+        trace.mark("candidates");
+        let built = Region::build(tm, &kept, &grid, &segs, margin, max_ratio, &proj, options)?;
+        trace.mark("region");
+        match built {
+            region::Built::Region {
                 region,
                 buckets,
-                l_px,
-                l_world,
-                degenerate_met,
-            );
+                length,
+                reach,
+            } => break (grid, clipped, *region, buckets, length, reach),
+            region::Built::Grow(l_px) => margin = 2.0 * max_ratio * l_px,
         }
-        margin = 2.0 * max_ratio * l_px;
     };
+    let (l_px, l_world) = (length.px, length.world);
     let visible_only = options.mode == CutMode::VisibleOnly;
 
     // Which vertices may move: every face around them known, in front of the eye, and in
@@ -201,8 +205,6 @@ fn plan<'a>(
                 && (!visible_only || faces.iter().all(|&f| region.cuttable[f as usize]))
         })
         .collect();
-    let reach = max_ratio * l_px;
-    buckets.narrow(reach);
     let seen_before: Vec<bool> = if visible_only {
         let near_stroke = |s: DVec2| {
             grid.range(s, s).is_some_and(|(cx, cy, _, _)| {
@@ -243,6 +245,7 @@ fn plan<'a>(
     } else {
         allowed
     };
+    trace.mark("allowed");
     let mut before = visible_only.then(|| Before::new(&region));
     let snapped = snap::snap(
         &mut region,
@@ -257,6 +260,7 @@ fn plan<'a>(
     if let Some(b) = before.as_mut() {
         b.mark_moved(snapped.moves.iter().map(|m| m.0));
     }
+    trace.mark("snap");
     let line = &snapped.line;
     let last = line.pts.len() as u32 - 1;
 
@@ -304,6 +308,7 @@ fn plan<'a>(
     );
     ends_moved.sort_unstable();
     ends_moved.dedup();
+    trace.mark("occurrences");
 
     // Chains, normalization, split vertices.
     let mut sp = split::Splitter::new(&region, l_px);
@@ -366,6 +371,7 @@ fn plan<'a>(
         }
     }
     let split_count = sp.new_pos.len();
+    trace.mark("normalize");
 
     // Along-edge pairs whose edge another path split run through the split vertex; chords
     // are made edges.
@@ -421,8 +427,10 @@ fn plan<'a>(
         .collect();
     cut_edges.sort_unstable();
     cut_edges.dedup();
+    trace.mark("route");
     sp.improve(&|a, b| cut_edges.binary_search(&(a.min(b), a.max(b))).is_ok());
 
+    trace.mark("improve");
     let split_faces = sp
         .touched
         .iter()
@@ -567,17 +575,13 @@ fn plan<'a>(
         .iter()
         .map(|&(p, u, w)| (p, gid(u), gid(w)))
         .collect();
-    let face_id = |lf: u32| match &tris.origin {
-        Some(o) => o[region.faces[lf as usize] as usize],
-        None => FaceId(region.faces[lf as usize]),
-    };
     let tri_face = |t: u32| match &tris.origin {
         Some(o) => o[t as usize],
         None => FaceId(t),
     };
     report.clipped_faces = clipped.iter().map(|&t| tri_face(t)).collect();
     report.clipped_faces.dedup();
-    report.degenerate_faces = degenerate_met.iter().map(|&lf| face_id(lf)).collect();
+    report.degenerate_faces = length.degenerate_met.iter().map(|&t| tri_face(t)).collect();
     report.degenerate_faces.sort_unstable();
     report.degenerate_faces.dedup();
     report.dropped = dropped_points(
@@ -602,6 +606,7 @@ fn plan<'a>(
         copy_of: copies_of.iter().map(|&lv| global[lv as usize]).collect(),
     };
     drop(sp);
+    trace.mark("edits");
     Ok((edits, tris))
 }
 

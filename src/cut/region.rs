@@ -9,6 +9,7 @@
 
 use glam::{DVec2, DVec3};
 use rayon::prelude::*;
+use rustc_hash::FxHashSet;
 
 use super::candidates::{point_segment_distance, segment_and_triangle, CellGrid, Kept};
 use super::geom::orient;
@@ -32,7 +33,7 @@ pub(crate) struct Region {
     pub pos: Vec<DVec3>,
     /// `None` behind the eye.
     pub seen: Vec<Option<Seen>>,
-    /// Whether every face around the vertex is in the region (it is within the margin).
+    /// Whether every face around the vertex is in the region (it is within the snap distance).
     pub complete: Vec<bool>,
     /// Local edge of corner i → i+1 of each face.
     pub face_edges: Vec<[u32; 3]>,
@@ -47,10 +48,6 @@ pub(crate) struct Region {
     pub sign: Vec<f64>,
     /// Faces the cut may split: projectable, non-degenerate, front-facing in visible-only.
     pub cuttable: Vec<bool>,
-    /// Faces degenerate on screen or in space.
-    pub degenerate: Vec<bool>,
-    /// Faces the stroke meets (exact).
-    pub meets: Vec<bool>,
 }
 
 impl Region {
@@ -61,18 +58,23 @@ impl Region {
     }
 
     /// `candidates`: triangles, ascending, a superset of those within `margin` of the stroke
-    /// on screen ([`super::candidates::candidate_faces`]); the region keeps those, and the
-    /// faces straddling the eye plane. With the region, its faces bucketed for visibility
-    /// tests (built here, beside the edge table).
+    /// on screen ([`super::candidates::candidate_faces`]). L is measured on the faces the
+    /// stroke meets; when the snap distance `max_ratio` · L exceeds the margin the region is
+    /// not built ([`Built::Grow`]). Otherwise the region keeps the faces within the snap
+    /// distance (none beyond can be reached by a snap or a crossing) and the faces straddling
+    /// the eye plane, with its faces bucketed for visibility tests (built beside the edge
+    /// table).
+    #[allow(clippy::too_many_arguments)]
     pub fn build(
         mesh: &PolyMesh,
         candidates: &Kept,
         grid: &CellGrid,
         segments: &[(DVec2, DVec2)],
         margin: f64,
+        max_ratio: f64,
         proj: &Projector,
         options: &CutOptions,
-    ) -> Result<(Region, FaceBuckets)> {
+    ) -> Result<Built> {
         let (mode, depth_eps_rel) = (options.mode, options.depth_eps_rel);
         let (verts, tri) = local_ids(&candidates.corners, mesh.vertex_count() as usize);
         let seen: Vec<Option<Seen>> = verts
@@ -81,27 +83,44 @@ impl Region {
             .map(|&g| proj.see(mesh.positions()[g as usize]))
             .collect();
         // Membership measured on screen, each vertex projected once.
-        let near: Vec<Option<bool>> = tri
+        let mut near: Vec<Option<bool>> = tri
             .par_iter()
             .with_min_len(1024)
             .map(|&t| face_near(t, &seen, grid, segments, margin))
             .collect();
+        let mut length = mean_edge_length(&tri, &near, &seen, &verts, mesh.positions());
+        for f in &mut length.degenerate_met {
+            *f = candidates.faces[*f as usize];
+        }
+        let reach = max_ratio * length.px;
+        if reach > margin {
+            return Ok(Built::Grow(length.px));
+        }
+        // Down to the snap distance: the faces the stroke meets stay, the others only if
+        // they come within reach (the same conservative test at the smaller radius).
+        near.par_iter_mut()
+            .zip(&tri)
+            .with_min_len(1024)
+            .for_each(|(n, &t)| {
+                if *n == Some(false) {
+                    *n = face_near(t, &seen, grid, segments, reach).map(|_| false);
+                }
+            });
         let NearFaces {
             faces,
             tri,
             verts,
             seen,
-            meets,
         } = keep_near(&candidates.faces, tri, verts, seen, &near);
         let pos: Vec<DVec3> = verts
             .iter()
             .map(|&g| mesh.positions()[g as usize])
             .collect();
-        let (sign, cuttable, degenerate) = face_signs(&tri, &seen, &pos, mode);
+        let (sign, cuttable) = face_signs(&tri, &seen, &pos, mode);
         // The visibility buckets (the longest) beside the edge table and the per-vertex
-        // data. The buckets' boxes are grown by the margin, which bounds the snap distance.
+        // data. The buckets' boxes are grown by the snap distance.
         let complete_vf = || {
-            // Within the margin of the stroke: every face around is kept.
+            // Within reach of the stroke: every face around is kept.
             let complete: Vec<bool> = seen
                 .iter()
                 .map(|s| {
@@ -110,7 +129,7 @@ impl Region {
                         .is_some_and(|(cx, cy, _, _)| {
                             grid.segments_at(cx, cy).iter().any(|&k| {
                                 let (a, b) = segments[k as usize];
-                                point_segment_distance(s.screen, a, b) <= margin
+                                point_segment_distance(s.screen, a, b) <= reach
                             })
                         })
                 })
@@ -118,7 +137,7 @@ impl Region {
             (complete, vertex_faces_csr(&tri, verts.len()))
         };
         let (buckets, (edge_table, (complete, (vf_start, vf_list)))) = rayon::join(
-            || FaceBuckets::new(&tri, &sign, &seen, &pos, grid, depth_eps_rel, margin),
+            || FaceBuckets::new(&tri, &sign, &seen, &pos, grid, depth_eps_rel, reach),
             || rayon::join(|| edge_table(&tri, &verts), complete_vf),
         );
         let (face_edges, edges, edge_faces) = edge_table?;
@@ -136,10 +155,13 @@ impl Region {
             vf_list,
             sign,
             cuttable,
-            degenerate,
-            meets,
         };
-        Ok((region, buckets))
+        Ok(Built::Region {
+            region: Box::new(region),
+            buckets,
+            length,
+            reach,
+        })
     }
 
     /// Faces around local vertex `v`, ascending.
@@ -167,39 +189,87 @@ impl Region {
             .iter()
             .all(|&v| self.seen[v as usize].is_some())
     }
+}
 
-    /// L: the mean screen (and world) length of the edges of projectable, non-degenerate
-    /// faces that the stroke meets (gap-fill for seed 002 §3.2's "mean edge length", spec §4).
-    /// Also returns those faces' degenerate neighbours met by the stroke, for the report.
-    pub fn mean_edge_length(&self) -> (f64, f64, Vec<u32>) {
-        let mut edge_used = vec![false; self.edges.len()];
-        let (mut sum_px, mut sum_w, mut n) = (0.0, 0.0, 0u64);
-        let mut degenerate_met = Vec::new();
-        for lf in 0..self.tri.len() as u32 {
-            if !self.meets[lf as usize] || !self.projectable(lf) {
-                continue;
-            }
-            if self.degenerate[lf as usize] {
-                degenerate_met.push(lf);
-                continue;
-            }
-            for i in 0..3 {
-                let e = self.face_edges[lf as usize][i];
-                if !edge_used[e as usize] {
-                    edge_used[e as usize] = true;
-                    let [u, v] = self.edges[e as usize];
-                    sum_px += (self.screen(u) - self.screen(v)).length();
-                    sum_w += (self.pos[u as usize] - self.pos[v as usize]).length();
-                    n += 1;
-                }
-            }
+/// What [`Region::build`] gives.
+pub(crate) enum Built {
+    Region {
+        region: Box<Region>,
+        buckets: FaceBuckets,
+        length: EdgeLength,
+        /// The snap distance, max_ratio · L: the region holds every face within it.
+        reach: f64,
+    },
+    /// The snap distance, from this L, exceeds the margin: grow it and build again.
+    Grow(f64),
+}
+
+/// L on screen and in space, and the degenerate faces the stroke meets (for the report;
+/// triangle ids of the triangulated input).
+pub(crate) struct EdgeLength {
+    pub px: f64,
+    pub world: f64,
+    pub degenerate_met: Vec<u32>,
+}
+
+/// L: the mean screen (and world) length of the edges of projectable, non-degenerate faces
+/// that the stroke meets (gap-fill for seed 002 §3.2's "mean edge length", spec §4), each
+/// edge once, summed in face then corner order. `near[f] == Some(true)`: the stroke meets
+/// face `f` (whose corners are then all in front of the eye).
+fn mean_edge_length(
+    tri: &[[u32; 3]],
+    near: &[Option<bool>],
+    seen: &[Option<Seen>],
+    verts: &[u32],
+    positions: &[DVec3],
+) -> EdgeLength {
+    let mut used: FxHashSet<u64> = FxHashSet::default();
+    let (mut sum_px, mut sum_w, mut n) = (0.0, 0.0, 0u64);
+    let mut degenerate_met = Vec::new();
+    let screen = |v: u32| {
+        seen[v as usize]
+            .expect("a face the stroke meets is projectable")
+            .screen
+    };
+    let pos = |v: u32| positions[verts[v as usize] as usize];
+    for (lf, t) in tri.iter().enumerate() {
+        if near[lf] != Some(true) {
+            continue;
         }
-        if n == 0 {
-            (0.0, 0.0, degenerate_met)
-        } else {
-            (sum_px / n as f64, sum_w / n as f64, degenerate_met)
+        if is_degenerate(
+            screen(t[0]),
+            screen(t[1]),
+            screen(t[2]),
+            [pos(t[0]), pos(t[1]), pos(t[2])],
+        ) {
+            degenerate_met.push(lf as u32);
+            continue;
+        }
+        for i in 0..3 {
+            let (u, v) = (t[i], t[(i + 1) % 3]);
+            if used.insert((u.min(v) as u64) << 32 | u.max(v) as u64) {
+                sum_px += (screen(u) - screen(v)).length();
+                sum_w += (pos(u) - pos(v)).length();
+                n += 1;
+            }
         }
     }
+    let (px, world) = if n == 0 {
+        (0.0, 0.0)
+    } else {
+        (sum_px / n as f64, sum_w / n as f64)
+    };
+    EdgeLength {
+        px,
+        world,
+        degenerate_met,
+    }
+}
+
+/// A face degenerate on screen (corners `a`, `b`, `c`) or in space (corners `p`).
+#[inline]
+fn is_degenerate(a: DVec2, b: DVec2, c: DVec2, p: [DVec3; 3]) -> bool {
+    orient(a, b, c) == 0.0 || (p[1] - p[0]).cross(p[2] - p[0]).length() == 0.0
 }
 
 /// Whether face `t` comes within `margin` of the stroke on screen: `Some(whether the stroke
@@ -261,10 +331,9 @@ struct NearFaces {
     tri: Vec<[u32; 3]>,
     verts: Vec<u32>,
     seen: Vec<Option<Seen>>,
-    meets: Vec<bool>,
 }
 
-/// [`NearFaces`] of `candidates` (`near[i]` is `Some(meets)` for a kept one).
+/// [`NearFaces`] of `candidates` (`near[i]` is `Some(_)` for a kept one).
 fn keep_near(
     candidates: &[u32],
     tri: Vec<[u32; 3]>,
@@ -273,12 +342,11 @@ fn keep_near(
     near: &[Option<bool>],
 ) -> NearFaces {
     let mut new_id = vec![NONE; verts.len()];
-    let (mut faces, mut kept, mut meets) = (Vec::new(), Vec::new(), Vec::new());
+    let (mut faces, mut kept) = (Vec::new(), Vec::new());
     for ((&f, t), n) in candidates.iter().zip(&tri).zip(near) {
-        if let Some(m) = *n {
+        if n.is_some() {
             faces.push(f);
             kept.push(*t);
-            meets.push(m);
             for &v in t {
                 new_id[v as usize] = 0;
             }
@@ -300,7 +368,6 @@ fn keep_near(
         tri: kept,
         verts: verts2,
         seen: seen2,
-        meets,
     }
 }
 
@@ -474,10 +541,9 @@ fn face_signs(
     seen: &[Option<Seen>],
     pos: &[DVec3],
     mode: CutMode,
-) -> (Vec<f64>, Vec<bool>, Vec<bool>) {
+) -> (Vec<f64>, Vec<bool>) {
     let mut sign = vec![0.0; tri.len()];
     let mut cuttable = vec![false; tri.len()];
-    let mut degenerate = vec![false; tri.len()];
     for (lf, t) in tri.iter().enumerate() {
         let s = [
             seen[t[0] as usize],
@@ -487,13 +553,11 @@ fn face_signs(
         let (Some(a), Some(b), Some(c)) = (s[0], s[1], s[2]) else {
             continue;
         };
-        let o = orient(a.screen, b.screen, c.screen);
         let p = [pos[t[0] as usize], pos[t[1] as usize], pos[t[2] as usize]];
-        let area = (p[1] - p[0]).cross(p[2] - p[0]).length();
-        if o == 0.0 || area == 0.0 {
-            degenerate[lf] = true;
+        if is_degenerate(a.screen, b.screen, c.screen, p) {
             continue;
         }
+        let o = orient(a.screen, b.screen, c.screen);
         sign[lf] = o.signum();
         // Front-facing = counter-clockwise in y-up NDC = negative orient on the y-down screen.
         cuttable[lf] = match mode {
@@ -501,5 +565,5 @@ fn face_signs(
             CutMode::VisibleOnly => o < 0.0,
         };
     }
-    (sign, cuttable, degenerate)
+    (sign, cuttable)
 }

@@ -33,10 +33,9 @@ pub(crate) struct FaceBuckets {
     start: Vec<u32>,
     list: Vec<Entry>,
     eps_world: f64,
-    /// How far the buckets reach around each face (the cells hold its box grown by this).
-    slack: f64,
-    /// How far queries grow an entry's box ([`Self::narrow`]), a little over the slack
-    /// asked for, so that the box test rounds outwards.
+    /// How far queries grow an entry's box: a billionth over the slack, which covers
+    /// rounding `lo − pad` (and `hi + pad`) to nearest; the boxes' own outward rounding
+    /// covers theirs.
     pad: f64,
 }
 
@@ -65,9 +64,8 @@ fn up(x: f64) -> f32 {
 }
 
 impl FaceBuckets {
-    /// Buckets of the region's faces; each face's screen box is grown by `slack` pixels so
-    /// the buckets stay valid while vertices move that far (snapping); [`Self::narrow`]
-    /// tightens the box test once the actual snap distance is known.
+    /// Buckets of the region's faces; each face's screen box is grown by `slack` pixels (the
+    /// snap distance) so the buckets stay valid while vertices move that far (snapping).
     /// The faces are `tri` (local vertex ids) with screen orientations `sign` (0: not
     /// bucketed), their vertices seen as `seen` at `pos`.
     pub fn new(
@@ -118,7 +116,9 @@ impl FaceBuckets {
         // fill.
         let inv_cell = 1.0 / cell;
         let range = |a: DVec2, b: DVec2| cell_range(origin, inv_cell, nx, ny, a, b);
-        let pad = DVec2::splat(slack);
+        // The cells a millionth wider than the box test, so rounding never leaves a point the
+        // test accepts in a cell that misses the face.
+        let pad = DVec2::splat(slack * (1.0 + 1e-6));
         // Each bucketed face's cell range, from its box grown by the slack (snapping moves
         // vertices after this), and entry.
         let boxes: Vec<Option<(CellRange, Entry)>> = screen_boxes
@@ -191,17 +191,8 @@ impl FaceBuckets {
             start,
             list,
             eps_world: depth_eps_rel * diag,
-            slack,
             pad: slack * (1.0 + 1e-9),
         }
-    }
-
-    /// Box tests grown by `slack` (at most the slack built with) from now on: the buckets
-    /// are built before the snap distance is known, with a bound on it. The pad's extra
-    /// billionth covers rounding `lo − pad` (and `hi + pad`) to nearest; the boxes' own
-    /// outward rounding covers theirs.
-    pub fn narrow(&mut self, slack: f64) {
-        self.pad = slack.min(self.slack) * (1.0 + 1e-9);
     }
 
     /// Candidate faces whose screen box covers the cell of `s` (a superset of those holding

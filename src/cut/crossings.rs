@@ -110,6 +110,10 @@ pub(crate) fn find_occurrences(
         visible: true,
     };
     let tpar = along(pts, seg_range);
+    let strips: Vec<Strip> = seg_range
+        .iter()
+        .map(|&(j0, j1)| Strip::new(pts[j0 as usize], pts[j1 as usize]))
+        .collect();
     let subs =
         |si: u32, lo: DVec2, hi: DVec2| sub_range(pts, &tpar, seg_range[si as usize], lo, hi);
     // Edges in fixed chunks on rayon, concatenated in edge order (thread-count independent).
@@ -130,6 +134,9 @@ pub(crate) fn find_occurrences(
                 near.clear();
                 prepared_segments_near(a.min(b), a.max(b), &mut near);
                 for &si in near.iter() {
+                    if strips[si as usize].apart(a, b) {
+                        continue;
+                    }
                     for k in subs(si, a.min(b), a.max(b)) {
                         let (p, q) = (pts[k as usize], pts[k as usize + 1]);
                         // Boxes apart: nothing to meet (exact: comparisons only).
@@ -219,6 +226,9 @@ pub(crate) fn find_occurrences(
                 near.clear();
                 prepared_segments_near(x, x, &mut near);
                 for &si in near.iter() {
+                    if strips[si as usize].apart(x, x) {
+                        continue;
+                    }
                     for k in subs(si, x, x) {
                         let (p, q) = (pts[k as usize], pts[k as usize + 1]);
                         if on_segment(p, q, x) && orient(p, q, x) == 0.0 {
@@ -318,6 +328,40 @@ pub(crate) fn find_occurrences(
         occ.retain(|o| !matches!(o.elem, Elem::P { .. }) || o.visible);
     }
     occ
+}
+
+/// The line through a prepared segment. Every polyline point of the segment lies on it up
+/// to rounding (a snap inserts its foot `a + t·(b − a)`, a few ulps off), so points clearly
+/// on one side of it cannot meet any of those polyline segments: most edges of the region
+/// are dismissed by two cross products, before the exact tests.
+struct Strip {
+    a: DVec2,
+    d: DVec2,
+    /// `1e-12 · |d|`, and the largest coordinate of the segment's ends.
+    unit: f64,
+    extent: f64,
+}
+
+impl Strip {
+    fn new(a: DVec2, b: DVec2) -> Self {
+        let d = b - a;
+        Strip {
+            a,
+            d,
+            unit: 1e-12 * d.length(),
+            extent: a.abs().max(b.abs()).max_element(),
+        }
+    }
+
+    /// Whether `x` and `y` are both on one side of the line, each farther from it than the
+    /// polyline's points can be (rounding of a few ulps of the coordinates, bounded here
+    /// by a millionth of a millionth of them, cross products' own rounding included).
+    #[inline]
+    fn apart(&self, x: DVec2, y: DVec2) -> bool {
+        let tol = self.unit * (1.0 + self.extent + x.abs().max(y.abs()).max_element());
+        let (cx, cy) = (self.d.perp_dot(x - self.a), self.d.perp_dot(y - self.a));
+        (cx > tol && cy > tol) || (cx < -tol && cy < -tol)
+    }
 }
 
 /// Each polyline point's parameter along its prepared segment (the points a segment snap

@@ -15,10 +15,14 @@ use rustc_hash::FxHashMap;
 
 use glam::{DVec2, DVec3};
 use rayon::prelude::*;
+use smallvec::SmallVec;
 
 use super::crossings::{elem_depth, Elem, Occ};
 use super::geom::{in_triangle, max_cos, orient};
 use super::region::{Region, NONE};
+
+/// A touched face's sub-triangles: at most four but where pieces meet in one face.
+pub(crate) type Pieces = SmallVec<[[u32; 3]; 4]>;
 
 pub(crate) struct Splitter<'r> {
     pub r: &'r Region,
@@ -26,11 +30,11 @@ pub(crate) struct Splitter<'r> {
     pub new_pos: Vec<DVec3>,
     pub new_screen: Vec<DVec2>,
     /// Sub-triangles of each touched face.
-    pub subs: Vec<Option<Vec<[u32; 3]>>>,
+    pub subs: Vec<Option<Pieces>>,
     /// Touched faces in order of first touch.
     pub touched: Vec<u32>,
     /// Vertices on each local edge, by screen parameter from its first to its second end.
-    edge_vertices: Vec<Vec<(f64, u32)>>,
+    edge_vertices: Vec<SmallVec<[(f64, u32); 2]>>,
     /// The vertex of each E or P element already placed.
     placed: FxHashMap<Elem, u32>,
     /// Screen distance under which a constructed point is an existing vertex (1e-9·L).
@@ -45,7 +49,7 @@ impl<'r> Splitter<'r> {
             new_screen: Vec::new(),
             subs: vec![None; r.tri.len()],
             touched: Vec::new(),
-            edge_vertices: vec![Vec::new(); r.edges.len()],
+            edge_vertices: vec![SmallVec::new(); r.edges.len()],
             placed: FxHashMap::default(),
             eps_px: 1e-9 * l_px.max(1.0),
         }
@@ -101,10 +105,10 @@ impl<'r> Splitter<'r> {
         }
     }
 
-    fn subs_mut(&mut self, lf: u32) -> &mut Vec<[u32; 3]> {
+    fn subs_mut(&mut self, lf: u32) -> &mut Pieces {
         if self.subs[lf as usize].is_none() {
-            // Room for the usual three or four pieces without regrowing.
-            let mut subs = Vec::with_capacity(4);
+            // The usual three or four pieces held inline (no allocation per face).
+            let mut subs = Pieces::new();
             subs.push(self.r.tri[lf as usize]);
             self.subs[lf as usize] = Some(subs);
             self.touched.push(lf);
@@ -384,7 +388,9 @@ impl<'r> Splitter<'r> {
                         for r in 0..3 {
                             let t = subs[i];
                             let (x, y) = (t[r], t[(r + 1) % 3]);
-                            if x > y || is_path_edge(x, y) {
+                            // Sides of the face have no twin here: only inner diagonals
+                            // are looked up among the path's edges.
+                            if x > y || find_edge(subs, y, x).is_none() || is_path_edge(x, y) {
                                 continue;
                             }
                             if flip(subs, i, r, sign, true, sp) {

@@ -434,7 +434,7 @@ fn plan<'a>(
     let split_faces = sp
         .touched
         .iter()
-        .filter(|&&lf| sp.subs[lf as usize].as_ref().is_some_and(|s| s.len() > 1))
+        .filter(|&&lf| sp.pieces_of(lf).is_some_and(|s| s.len() > 1))
         .count() as u32;
     if split_faces > options.max_faces_split {
         return Err(crate::Error::CutTooLarge {
@@ -470,7 +470,7 @@ fn plan<'a>(
     let mut rewritten_faces = Vec::with_capacity(touched.len());
     let mut appended_faces = Vec::new();
     for &lf in &touched {
-        let subs = sp.subs[lf as usize].as_ref().expect("touched");
+        let subs = sp.pieces_of(lf).expect("touched");
         let slot = FaceId(region.faces[lf as usize]);
         rewritten_faces.push((slot, to_global(&subs[0])));
         appended_faces.extend(subs[1..].iter().map(|t| (to_global(t), slot)));

@@ -29,12 +29,17 @@ pub(crate) struct Splitter<'r> {
     /// New vertices (local ids from `r.verts.len()` on).
     pub new_pos: Vec<DVec3>,
     pub new_screen: Vec<DVec2>,
-    /// Sub-triangles of each touched face.
-    pub subs: Vec<Option<Pieces>>,
+    /// Sub-triangles of the touched faces, `pieces[k]` of face `touched[k]`; `slot[lf]`
+    /// is `k`, or `NONE` while face `lf` is whole. (A pool: most of the region's faces and
+    /// edges are never touched, and per-face storage cost more to set up than to fill.)
+    pieces: Vec<Pieces>,
+    slot: Vec<u32>,
     /// Touched faces in order of first touch.
     pub touched: Vec<u32>,
-    /// Vertices on each local edge, by screen parameter from its first to its second end.
-    edge_vertices: Vec<SmallVec<[(f64, u32); 2]>>,
+    /// Vertices on each split local edge, by screen parameter from its first to its second
+    /// end: `on_edge[edge_slot[e]]`.
+    on_edge: Vec<SmallVec<[(f64, u32); 2]>>,
+    edge_slot: Vec<u32>,
     /// The vertex of each E or P element already placed.
     placed: FxHashMap<Elem, u32>,
     /// Screen distance under which a constructed point is an existing vertex (1e-9·L).
@@ -47,9 +52,11 @@ impl<'r> Splitter<'r> {
             r,
             new_pos: Vec::new(),
             new_screen: Vec::new(),
-            subs: vec![None; r.tri.len()],
+            pieces: Vec::new(),
+            slot: vec![NONE; r.tri.len()],
             touched: Vec::new(),
-            edge_vertices: vec![SmallVec::new(); r.edges.len()],
+            on_edge: Vec::new(),
+            edge_slot: vec![NONE; r.edges.len()],
             placed: FxHashMap::default(),
             eps_px: 1e-9 * l_px.max(1.0),
         }
@@ -106,19 +113,26 @@ impl<'r> Splitter<'r> {
     }
 
     fn subs_mut(&mut self, lf: u32) -> &mut Pieces {
-        if self.subs[lf as usize].is_none() {
+        if self.slot[lf as usize] == NONE {
             // The usual three or four pieces held inline (no allocation per face).
+            self.slot[lf as usize] = self.pieces.len() as u32;
             let mut subs = Pieces::new();
             subs.push(self.r.tri[lf as usize]);
-            self.subs[lf as usize] = Some(subs);
+            self.pieces.push(subs);
             self.touched.push(lf);
         }
-        self.subs[lf as usize].as_mut().expect("just set")
+        &mut self.pieces[self.slot[lf as usize] as usize]
+    }
+
+    /// The sub-triangles of a touched face.
+    pub fn pieces_of(&self, lf: u32) -> Option<&Pieces> {
+        let k = self.slot[lf as usize];
+        (k != NONE).then(|| &self.pieces[k as usize])
     }
 
     /// The current sub-triangles of a face (its triangle when untouched).
     pub fn face_subs(&self, lf: u32) -> &[[u32; 3]] {
-        match &self.subs[lf as usize] {
+        match self.pieces_of(lf) {
             Some(s) => s,
             None => std::slice::from_ref(&self.r.tri[lf as usize]),
         }
@@ -142,7 +156,7 @@ impl<'r> Splitter<'r> {
                 // Spec §4 step 5: a crossing a rounding error from an end hits that vertex;
                 // two crossings a rounding error apart are one.
                 let [a, b] = self.r.edges[edge as usize];
-                let list = &self.edge_vertices[edge as usize];
+                let list = self.edge_vertices(edge);
                 let existing = [a, b]
                     .into_iter()
                     .chain(list.iter().map(|x| x.1))
@@ -181,16 +195,23 @@ impl<'r> Splitter<'r> {
 
     /// The vertices inserted on a local edge, from its first end to its second.
     pub fn edge_vertices(&self, e: u32) -> &[(f64, u32)] {
-        &self.edge_vertices[e as usize]
+        match self.edge_slot[e as usize] {
+            NONE => &[],
+            k => &self.on_edge[k as usize],
+        }
     }
 
     fn insert_on_edge(&mut self, e: u32, m: u32, t: f64) {
         let [a, b] = self.r.edges[e as usize];
-        let list = &self.edge_vertices[e as usize];
+        if self.edge_slot[e as usize] == NONE {
+            self.edge_slot[e as usize] = self.on_edge.len() as u32;
+            self.on_edge.push(SmallVec::new());
+        }
+        let list = &mut self.on_edge[self.edge_slot[e as usize] as usize];
         let k = list.partition_point(|&(x, _)| x < t);
         let u = if k == 0 { a } else { list[k - 1].1 };
         let w = if k == list.len() { b } else { list[k].1 };
-        self.edge_vertices[e as usize].insert(k, (t, m));
+        list.insert(k, (t, m));
         for f in self.r.edge_faces[e as usize] {
             if f == NONE {
                 continue;
@@ -358,26 +379,28 @@ impl<'r> Splitter<'r> {
     /// Flips the diagonal of sub-triangle `i`'s edge `r` if the quadrilateral is strictly
     /// convex (and, with `better`, only if the smallest angle grows).
     fn try_flip(&mut self, lf: u32, i: usize, r: usize, sign: f64, better: bool) -> bool {
-        if self.subs[lf as usize].is_none() {
+        let k = self.slot[lf as usize];
+        if k == NONE {
             // An untouched face has one sub-triangle: nothing to flip.
             return false;
         }
-        let mut subs = self.subs[lf as usize].take().expect("touched");
+        let mut subs = std::mem::take(&mut self.pieces[k as usize]);
         let flipped = flip(&mut subs, i, r, sign, better, self);
-        self.subs[lf as usize] = Some(subs);
+        self.pieces[k as usize] = subs;
         flipped
     }
 
     /// Max-min-angle flips of the non-path diagonals inside each split face (P2's quad).
     /// Faces are independent (flips stay inside one face), so they run on rayon.
     pub fn improve(&mut self, is_path_edge: &(dyn Fn(u32, u32) -> bool + Sync)) {
-        let mut subs = std::mem::take(&mut self.subs);
+        let mut pieces = std::mem::take(&mut self.pieces);
         let sp = &*self;
-        subs.par_iter_mut()
-            .enumerate()
-            .with_min_len(256)
-            .for_each(|(lf, subs)| {
-                let Some(subs) = subs else { return };
+        pieces
+            .par_iter_mut()
+            .zip(&sp.touched)
+            .with_min_len(64)
+            .for_each(|(subs, &lf)| {
+                let lf = lf as usize;
                 let sign = sp.r.sign[lf];
                 if sign == 0.0 || !sp.r.cuttable[lf] {
                     return;
@@ -403,7 +426,7 @@ impl<'r> Splitter<'r> {
                     }
                 }
             });
-        self.subs = subs;
+        self.pieces = pieces;
     }
 }
 

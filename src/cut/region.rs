@@ -9,7 +9,6 @@
 
 use glam::{DVec2, DVec3};
 use rayon::prelude::*;
-use rustc_hash::FxHashSet;
 
 use super::candidates::{point_segment_distance, segment_and_triangle, CellGrid, Kept};
 use super::geom::orient;
@@ -77,10 +76,16 @@ impl Region {
     ) -> Result<Built> {
         let (mode, depth_eps_rel) = (options.mode, options.depth_eps_rel);
         let (verts, tri) = local_ids(&candidates.corners, mesh.vertex_count() as usize);
-        let seen: Vec<Option<Seen>> = verts
+        // Each position read once from the mesh (its vertices are scattered through it:
+        // reading them again per edge or face missed the caches).
+        let pos: Vec<DVec3> = verts
+            .iter()
+            .map(|&g| mesh.positions()[g as usize])
+            .collect();
+        let seen: Vec<Option<Seen>> = pos
             .par_iter()
             .with_min_len(1024)
-            .map(|&g| proj.see(mesh.positions()[g as usize]))
+            .map(|&p| proj.see(p))
             .collect();
         // Membership measured on screen, each vertex projected once.
         let mut near: Vec<Option<bool>> = tri
@@ -88,7 +93,7 @@ impl Region {
             .with_min_len(1024)
             .map(|&t| face_near(t, &seen, grid, segments, margin))
             .collect();
-        let mut length = mean_edge_length(&tri, &near, &seen, &verts, mesh.positions());
+        let mut length = mean_edge_length(&tri, &near, &seen, &pos);
         for f in &mut length.degenerate_met {
             *f = candidates.faces[*f as usize];
         }
@@ -111,11 +116,8 @@ impl Region {
             tri,
             verts,
             seen,
-        } = keep_near(&candidates.faces, tri, verts, seen, &near);
-        let pos: Vec<DVec3> = verts
-            .iter()
-            .map(|&g| mesh.positions()[g as usize])
-            .collect();
+            pos,
+        } = keep_near(&candidates.faces, tri, verts, seen, pos, &near);
         let (sign, cuttable) = face_signs(&tri, &seen, &pos, mode);
         // The visibility buckets (the longest) beside the edge table and the per-vertex
         // data. The buckets' boxes are grown by the snap distance.
@@ -220,10 +222,26 @@ fn mean_edge_length(
     tri: &[[u32; 3]],
     near: &[Option<bool>],
     seen: &[Option<Seen>],
-    verts: &[u32],
-    positions: &[DVec3],
+    pos: &[DVec3],
 ) -> EdgeLength {
-    let mut used: FxHashSet<u64> = FxHashSet::default();
+    // Edges met so far, listed at their smaller end (a vertex has a few): cheaper than
+    // hashing every corner's edge.
+    let mut head = vec![NONE; pos.len()];
+    let mut link: Vec<(u32, u32)> = Vec::new();
+    let mut first_use = |u: u32, v: u32| {
+        let (a, b) = (u.min(v), u.max(v));
+        let mut k = head[a as usize];
+        while k != NONE {
+            let (other, next) = link[k as usize];
+            if other == b {
+                return false;
+            }
+            k = next;
+        }
+        link.push((b, head[a as usize]));
+        head[a as usize] = link.len() as u32 - 1;
+        true
+    };
     let (mut sum_px, mut sum_w, mut n) = (0.0, 0.0, 0u64);
     let mut degenerate_met = Vec::new();
     let screen = |v: u32| {
@@ -231,7 +249,7 @@ fn mean_edge_length(
             .expect("a face the stroke meets is projectable")
             .screen
     };
-    let pos = |v: u32| positions[verts[v as usize] as usize];
+    let pos = |v: u32| pos[v as usize];
     for (lf, t) in tri.iter().enumerate() {
         if near[lf] != Some(true) {
             continue;
@@ -247,7 +265,7 @@ fn mean_edge_length(
         }
         for i in 0..3 {
             let (u, v) = (t[i], t[(i + 1) % 3]);
-            if used.insert((u.min(v) as u64) << 32 | u.max(v) as u64) {
+            if first_use(u, v) {
                 sum_px += (screen(u) - screen(v)).length();
                 sum_w += (pos(u) - pos(v)).length();
                 n += 1;
@@ -331,6 +349,7 @@ struct NearFaces {
     tri: Vec<[u32; 3]>,
     verts: Vec<u32>,
     seen: Vec<Option<Seen>>,
+    pos: Vec<DVec3>,
 }
 
 /// [`NearFaces`] of `candidates` (`near[i]` is `Some(_)` for a kept one).
@@ -339,6 +358,7 @@ fn keep_near(
     tri: Vec<[u32; 3]>,
     verts: Vec<u32>,
     seen: Vec<Option<Seen>>,
+    pos: Vec<DVec3>,
     near: &[Option<bool>],
 ) -> NearFaces {
     let mut new_id = vec![NONE; verts.len()];
@@ -352,12 +372,13 @@ fn keep_near(
             }
         }
     }
-    let (mut verts2, mut seen2) = (Vec::new(), Vec::new());
+    let (mut verts2, mut seen2, mut pos2) = (Vec::new(), Vec::new(), Vec::new());
     for (v, id) in new_id.iter_mut().enumerate() {
         if *id == 0 {
             *id = verts2.len() as u32;
             verts2.push(verts[v]);
             seen2.push(seen[v]);
+            pos2.push(pos[v]);
         }
     }
     for t in &mut kept {
@@ -368,6 +389,7 @@ fn keep_near(
         tri: kept,
         verts: verts2,
         seen: seen2,
+        pos: pos2,
     }
 }
 

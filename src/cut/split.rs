@@ -406,7 +406,7 @@ impl<'r> Splitter<'r> {
                     return;
                 }
                 for _ in 0..3 {
-                    let mut any = false;
+                    let (mut any, mut diagonals) = (false, 0);
                     for i in 0..subs.len() {
                         for r in 0..3 {
                             let t = subs[i];
@@ -416,12 +416,15 @@ impl<'r> Splitter<'r> {
                             if x > y || find_edge(subs, y, x).is_none() || is_path_edge(x, y) {
                                 continue;
                             }
+                            diagonals += 1;
                             if flip(subs, i, r, sign, true, sp) {
                                 any = true;
                             }
                         }
                     }
-                    if !any {
+                    // A lone flippable diagonal (P2's quad) just flipped would only flip
+                    // back, which makes the smallest angle smaller: no second look.
+                    if !any || diagonals == 1 {
                         break;
                     }
                 }

@@ -587,3 +587,39 @@ pub(crate) fn chains(
     }
     result
 }
+
+#[cfg(test)]
+mod tests {
+    use super::Strip;
+    use glam::DVec2;
+
+    /// A point a segment snap inserts (`a + t·(b − a)`, as `snap` computes it) is never
+    /// "apart" from the segment's line, alone or with any other point: the filter only
+    /// skips edges that cannot meet the polyline. Points a little off the line are.
+    #[test]
+    fn inserted_feet_are_never_apart_from_their_segment() {
+        let mut s = 0x9e37_79b9_7f4a_7c15u64;
+        let mut rnd = move || {
+            s ^= s << 13;
+            s ^= s >> 7;
+            s ^= s << 17;
+            (s >> 11) as f64 / (1u64 << 53) as f64
+        };
+        for _ in 0..20_000 {
+            let scale = [1.0, 1e3, 1e6][(rnd() * 3.0) as usize];
+            let a = DVec2::new(rnd() - 0.5, rnd() - 0.5) * scale;
+            let b = a + DVec2::new(rnd() - 0.5, rnd() - 0.5) * scale * rnd();
+            if a == b {
+                continue;
+            }
+            let strip = Strip::new(a, b);
+            let foot = a + (b - a) * rnd();
+            let other = DVec2::new(rnd() - 0.5, rnd() - 0.5) * scale * 3.0;
+            assert!(!strip.apart(foot, foot), "{a} {b} {foot}");
+            assert!(!strip.apart(foot, other) && !strip.apart(other, foot));
+            // A millionth of the segment's length off the line, both on one side: apart.
+            let n = (b - a).perp().normalize() * (b - a).length() * 1e-6;
+            assert!(strip.apart(foot + n, a + n) || (b - a).length() < 1e-3 * scale);
+        }
+    }
+}

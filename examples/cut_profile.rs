@@ -1,0 +1,93 @@
+//! Times repeated stroke cuts (`cut_edits`) on the benchmark's meshes, for tuning between
+//! `cargo xtask bench` runs: the same view and 50-point stroke as `benches/cut.rs`.
+//!
+//! ```sh
+//! cargo run --release --example cut_profile -- torus visible 100   # or: spot through-all
+//! KATACHI_CUT_TRACE=1 cargo run --release --example cut_profile    # each step's time too
+//! ```
+//!
+//! `torus` is the triangulated 1M-triangle torus, `spot` the shared `spot_quadrangulated.obj`
+//! subdivided 4 times and triangulated (1.5M triangles). Prints the fastest, the first
+//! quartile and the median call in milliseconds. Under `valgrind --tool=callgrind
+//! --toggle-collect='katachi::cut::plan*'` with `RAYON_NUM_THREADS=1` it counts the
+//! instructions of a cut, which, unlike times, do not depend on what else the machine does.
+
+use std::path::Path;
+use std::time::Instant;
+
+use glam::{DMat4, DVec2, DVec3};
+use katachi::cut::{cut_edits, CutMode, CutOptions, Stroke, View};
+use katachi::mesh::shapes;
+use katachi::subdivide::{catmull_clark, SubdivideOptions};
+use katachi::PolyMesh;
+
+fn triangulate(quads: &PolyMesh) -> PolyMesh {
+    let tris: Vec<[u32; 3]> = quads
+        .faces()
+        .flat_map(|f| {
+            let q = quads.face_outer(f);
+            [[q[0].0, q[1].0, q[2].0], [q[0].0, q[2].0, q[3].0]]
+        })
+        .collect();
+    PolyMesh::from_polygons(quads.positions().to_vec(), tris.iter()).expect("a valid mesh")
+}
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let arg = |i: usize, default: &str| args.get(i).cloned().unwrap_or(default.to_string());
+    let mesh = match arg(0, "torus").as_str() {
+        "torus" => triangulate(&shapes::torus(707, 707, 2.0, 0.7)),
+        "spot" => {
+            let path = concat!(
+                env!("CARGO_MANIFEST_DIR"),
+                "/../shared/data/models/spot_quadrangulated.obj"
+            );
+            let m = katachi::io::read(Path::new(path))?;
+            triangulate(&catmull_clark(&m, &SubdivideOptions::with_levels(4))?.mesh)
+        }
+        other => return Err(format!("unknown mesh {other:?} (torus or spot)").into()),
+    };
+    let mode = match arg(1, "visible").as_str() {
+        "visible" => CutMode::VisibleOnly,
+        "through-all" => CutMode::ThroughAll,
+        other => return Err(format!("unknown mode {other:?} (visible or through-all)").into()),
+    };
+    let calls: usize = arg(2, "60").parse()?;
+    if calls == 0 {
+        return Err("at least one call".into());
+    }
+
+    let (lo, hi) = mesh.bounding_box().ok_or("an empty mesh")?;
+    let (c, r) = ((lo + hi) / 2.0, (hi - lo).length() / 2.0);
+    let eye = c + DVec3::new(0.3, -0.9, 1.2).normalize() * r * 2.2;
+    let vp = DMat4::perspective_rh_gl(45f64.to_radians(), 1280.0 / 720.0, 0.01 * r, 10.0 * r)
+        * DMat4::look_at_rh(eye, c, DVec3::Z);
+    let view = View::new(vp, [0.0, 0.0, 1280.0, 720.0]);
+    let stroke = Stroke::new(
+        (0..50)
+            .map(|i| {
+                let t = i as f64 / 49.0;
+                DVec2::new(200.0 + 880.0 * t, 360.0 + 60.0 * (t * 6.0).sin())
+            })
+            .collect(),
+    );
+    let options = CutOptions::with_mode(mode);
+
+    let mut ms = Vec::with_capacity(calls);
+    for _ in 0..calls {
+        let start = Instant::now();
+        drop(std::hint::black_box(cut_edits(
+            &mesh, &stroke, &view, &options,
+        )?));
+        ms.push(start.elapsed().as_secs_f64() * 1e3);
+    }
+    ms.sort_by(f64::total_cmp);
+    println!(
+        "{} triangles, {mode:?}, {calls} calls: min {:.3} ms, p25 {:.3} ms, median {:.3} ms",
+        mesh.face_count(),
+        ms[0],
+        ms[calls / 4],
+        ms[calls / 2]
+    );
+    Ok(())
+}

@@ -48,18 +48,20 @@ pub(crate) fn barycentric(a: DVec2, b: DVec2, c: DVec2, p: DVec2) -> [f64; 3] {
     [la, lb, 1.0 - la - lb]
 }
 
-/// The cosine of triangle abc's smallest corner angle in 3D (1 at a degenerate corner). Arc cosine is
-/// monotone, so the smallest angle of several triangles is the arc cosine of their largest
-/// `max_cos`: one `acos` per comparison instead of one per corner.
-pub(crate) fn max_cos(a: DVec3, b: DVec3, c: DVec3) -> f64 {
-    let cos = |p: DVec3, q: DVec3, r: DVec3| {
-        let (u, v) = (q - p, r - p);
-        let d = u.length() * v.length();
+/// The cosine of triangle abc's smallest corner angle in 3D (1 at a degenerate corner), from
+/// its corners and side lengths `|ab|`, `|bc|`, `|ca|` (a flip compares four triangles with
+/// six sides among them: each length is taken once). Arc cosine is monotone, so the
+/// smallest angle of several triangles is the arc cosine of their largest `max_cos_sides`:
+/// one `acos` per comparison instead of one per corner.
+pub(crate) fn max_cos_sides(a: DVec3, b: DVec3, c: DVec3, [ab, bc, ca]: [f64; 3]) -> f64 {
+    let cos = |p: DVec3, q: DVec3, r: DVec3, d: f64| {
         if d == 0.0 {
             1.0
         } else {
-            (u.dot(v) / d).clamp(-1.0, 1.0)
+            ((q - p).dot(r - p) / d).clamp(-1.0, 1.0)
         }
     };
-    cos(a, b, c).max(cos(b, c, a)).max(cos(c, a, b))
+    cos(a, b, c, ab * ca)
+        .max(cos(b, c, a, bc * ab))
+        .max(cos(c, a, b, ca * bc))
 }

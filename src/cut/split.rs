@@ -18,7 +18,7 @@ use rayon::prelude::*;
 use smallvec::SmallVec;
 
 use super::crossings::{elem_depth, Elem, Occ};
-use super::geom::{in_triangle, max_cos, orient};
+use super::geom::{in_triangle, max_cos_sides, orient};
 use super::region::{Region, NONE};
 
 /// A touched face's sub-triangles: at most four but where pieces meet in one face.
@@ -456,8 +456,12 @@ fn flip(
     }
     if better {
         let (px, py, pp, pq) = (sp.pos(x), sp.pos(y), sp.pos(p), sp.pos(q));
-        let before = max_cos(px, py, pp).max(max_cos(py, px, pq));
-        let after = max_cos(pp, px, pq).max(max_cos(pq, py, pp));
+        let (xy, xp, yp) = ((py - px).length(), (pp - px).length(), (pp - py).length());
+        let (xq, yq, pq_) = ((pq - px).length(), (pq - py).length(), (pq - pp).length());
+        let before =
+            max_cos_sides(px, py, pp, [xy, yp, xp]).max(max_cos_sides(py, px, pq, [xy, xq, yq]));
+        let after =
+            max_cos_sides(pp, px, pq, [xp, xq, pq_]).max(max_cos_sides(pq, py, pp, [yq, yp, pq_]));
         // Arc cosine falls, so the smallest angle can only grow with a smaller cosine; the
         // angles (and the slack) only then.
         if after >= before || after.acos() <= before.acos() * (1.0 + 1e-9) {

@@ -139,7 +139,21 @@ impl Region {
             (complete, vertex_faces_csr(&tri, verts.len()))
         };
         let (buckets, (edge_table, (complete, (vf_start, vf_list)))) = rayon::join(
-            || FaceBuckets::new(&tri, &sign, &seen, &pos, grid, depth_eps_rel, reach),
+            || {
+                // Only visible-only mode asks what hides a point; through all, the buckets
+                // just locate piece ends, in any order.
+                let by_depth = mode == CutMode::VisibleOnly;
+                FaceBuckets::new(
+                    &tri,
+                    &sign,
+                    &seen,
+                    &pos,
+                    grid,
+                    depth_eps_rel,
+                    reach,
+                    by_depth,
+                )
+            },
             || rayon::join(|| edge_table(&tri, &verts), complete_vf),
         );
         let (face_edges, edges, edge_faces) = edge_table?;

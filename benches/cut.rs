@@ -19,22 +19,15 @@ use katachi::subdivide::{catmull_clark, SubdivideOptions};
 use katachi::PolyMesh;
 use rayon::prelude::*;
 
-fn triangulate(quads: &PolyMesh) -> PolyMesh {
-    let tris: Vec<[u32; 3]> = quads
-        .faces()
-        .flat_map(|f| {
-            let q = quads.face_outer(f);
-            [[q[0].0, q[1].0, q[2].0], [q[0].0, q[2].0, q[3].0]]
-        })
-        .collect();
-    PolyMesh::from_polygons(quads.positions().to_vec(), tris.iter()).unwrap()
-}
+#[path = "../tests/cut_meshes/mod.rs"]
+mod cut_meshes;
+use cut_meshes::triangulate_quads;
 
 fn meshes() -> Vec<(String, PolyMesh)> {
     let mut v: Vec<(String, PolyMesh)> = [(71u32, "10k"), (224, "100k"), (707, "1M")]
         .iter()
         .map(|&(n, name)| {
-            let m = triangulate(&shapes::torus(n, n, 2.0, 0.7));
+            let m = triangulate_quads(&shapes::torus(n, n, 2.0, 0.7));
             (format!("torus {name} ({} tris)", m.face_count()), m)
         })
         .collect();
@@ -47,7 +40,7 @@ fn meshes() -> Vec<(String, PolyMesh)> {
             let sub = catmull_clark(&m, &SubdivideOptions::with_levels(4))
                 .unwrap()
                 .mesh;
-            let t = triangulate(&sub);
+            let t = triangulate_quads(&sub);
             v.push((format!("spot L4 ({} tris)", t.face_count()), t));
         }
         Err(e) => eprintln!("spot not benchmarked: {e}"),

@@ -19,31 +19,23 @@ use glam::{DMat4, DVec2, DVec3};
 use katachi::cut::{cut_edits, CutMode, CutOptions, Stroke, View};
 use katachi::mesh::shapes;
 use katachi::subdivide::{catmull_clark, SubdivideOptions};
-use katachi::PolyMesh;
 
-fn triangulate(quads: &PolyMesh) -> PolyMesh {
-    let tris: Vec<[u32; 3]> = quads
-        .faces()
-        .flat_map(|f| {
-            let q = quads.face_outer(f);
-            [[q[0].0, q[1].0, q[2].0], [q[0].0, q[2].0, q[3].0]]
-        })
-        .collect();
-    PolyMesh::from_polygons(quads.positions().to_vec(), tris.iter()).expect("a valid mesh")
-}
+#[path = "../tests/cut_meshes/mod.rs"]
+mod cut_meshes;
+use cut_meshes::triangulate_quads;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let arg = |i: usize, default: &str| args.get(i).cloned().unwrap_or(default.to_string());
     let mesh = match arg(0, "torus").as_str() {
-        "torus" => triangulate(&shapes::torus(707, 707, 2.0, 0.7)),
+        "torus" => triangulate_quads(&shapes::torus(707, 707, 2.0, 0.7)),
         "spot" => {
             let path = concat!(
                 env!("CARGO_MANIFEST_DIR"),
                 "/../shared/data/models/spot_quadrangulated.obj"
             );
             let m = katachi::io::read(Path::new(path))?;
-            triangulate(&catmull_clark(&m, &SubdivideOptions::with_levels(4))?.mesh)
+            triangulate_quads(&catmull_clark(&m, &SubdivideOptions::with_levels(4))?.mesh)
         }
         other => return Err(format!("unknown mesh {other:?} (torus or spot)").into()),
     };

@@ -1,0 +1,159 @@
+//! Meshes for the stroke cut's tests, benchmark and tuning examples (`tests/cut.rs`,
+//! `benches/cut.rs`, `examples/cut_*.rs` include this file): triangulated grids, flat and
+//! perturbed, icospheres, quads split into triangles, and cameras around a mesh.
+#![allow(dead_code)] // each includer uses some
+
+use std::collections::BTreeMap;
+
+use glam::{DMat4, DVec3};
+use katachi::cut::View;
+use katachi::PolyMesh;
+
+/// An m × n grid of unit squares in z = 0, each split into two triangles (normal +z).
+pub fn tri_grid(m: u32, n: u32) -> PolyMesh {
+    let mut p = Vec::new();
+    for j in 0..=n {
+        for i in 0..=m {
+            p.push(DVec3::new(i as f64, j as f64, 0.0));
+        }
+    }
+    let id = |i: u32, j: u32| j * (m + 1) + i;
+    let mut f = Vec::new();
+    for j in 0..n {
+        for i in 0..m {
+            f.push(vec![id(i, j), id(i + 1, j), id(i + 1, j + 1)]);
+            f.push(vec![id(i, j), id(i + 1, j + 1), id(i, j + 1)]);
+        }
+    }
+    PolyMesh::from_polygons(p, f).unwrap()
+}
+
+/// `tri_grid` with each interior vertex moved by up to `amount` in x and y and up to
+/// min(amount, 0.2) in z (deterministic).
+pub fn perturbed_grid(m: u32, n: u32, amount: f64, seed: u64) -> PolyMesh {
+    let g = tri_grid(m, n);
+    let mut s = seed
+        .wrapping_mul(6364136223846793005)
+        .wrapping_add(1442695040888963407);
+    let mut rnd = || {
+        s = s
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        ((s >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
+    };
+    let p: Vec<DVec3> = g
+        .positions()
+        .iter()
+        .map(|&q| {
+            let interior = q.x > 0.0 && q.y > 0.0 && q.x < m as f64 && q.y < n as f64;
+            let (dx, dy, dz) = (rnd(), rnd(), rnd());
+            if interior {
+                q + DVec3::new(dx * amount, dy * amount, dz * amount.min(0.2))
+            } else {
+                q
+            }
+        })
+        .collect();
+    let faces: Vec<Vec<u32>> = g
+        .faces()
+        .map(|f| g.face_outer(f).iter().map(|v| v.0).collect())
+        .collect();
+    PolyMesh::from_polygons(p, faces).unwrap()
+}
+
+/// An icosphere of radius 1 (outward winding), `levels` midpoint subdivisions.
+pub fn icosphere(levels: u32) -> PolyMesh {
+    let t = (1.0 + 5f64.sqrt()) / 2.0;
+    let mut p: Vec<DVec3> = [
+        (-1.0, t, 0.0),
+        (1.0, t, 0.0),
+        (-1.0, -t, 0.0),
+        (1.0, -t, 0.0),
+        (0.0, -1.0, t),
+        (0.0, 1.0, t),
+        (0.0, -1.0, -t),
+        (0.0, 1.0, -t),
+        (t, 0.0, -1.0),
+        (t, 0.0, 1.0),
+        (-t, 0.0, -1.0),
+        (-t, 0.0, 1.0),
+    ]
+    .iter()
+    .map(|&(x, y, z)| DVec3::new(x, y, z).normalize())
+    .collect();
+    let mut f: Vec<[u32; 3]> = vec![
+        [0, 11, 5],
+        [0, 5, 1],
+        [0, 1, 7],
+        [0, 7, 10],
+        [0, 10, 11],
+        [1, 5, 9],
+        [5, 11, 4],
+        [11, 10, 2],
+        [10, 7, 6],
+        [7, 1, 8],
+        [3, 9, 4],
+        [3, 4, 2],
+        [3, 2, 6],
+        [3, 6, 8],
+        [3, 8, 9],
+        [4, 9, 5],
+        [2, 4, 11],
+        [6, 2, 10],
+        [8, 6, 7],
+        [9, 8, 1],
+    ];
+    for _ in 0..levels {
+        let mut mid: BTreeMap<(u32, u32), u32> = BTreeMap::new();
+        let mut nf = Vec::new();
+        for t in &f {
+            let mut m = [0u32; 3];
+            for i in 0..3 {
+                let (a, b) = (t[i], t[(i + 1) % 3]);
+                m[i] = *mid.entry((a.min(b), a.max(b))).or_insert_with(|| {
+                    p.push(((p[a as usize] + p[b as usize]) / 2.0).normalize());
+                    p.len() as u32 - 1
+                });
+            }
+            nf.push([t[0], m[0], m[2]]);
+            nf.push([t[1], m[1], m[0]]);
+            nf.push([t[2], m[2], m[1]]);
+            nf.push([m[0], m[1], m[2]]);
+        }
+        f = nf;
+    }
+    PolyMesh::from_polygons(p, f.iter()).unwrap()
+}
+
+/// Each quad of `quads` split along its diagonal from corner 0 (the benchmark's meshes).
+pub fn triangulate_quads(quads: &PolyMesh) -> PolyMesh {
+    let tris: Vec<[u32; 3]> = quads
+        .faces()
+        .flat_map(|f| {
+            let q = quads.face_outer(f);
+            [[q[0].0, q[1].0, q[2].0], [q[0].0, q[2].0, q[3].0]]
+        })
+        .collect();
+    PolyMesh::from_polygons(quads.positions().to_vec(), tris.iter()).unwrap()
+}
+
+/// A camera looking at the mesh's centre from a random direction: orthographic or perspective.
+pub fn view_for(mesh: &PolyMesh, ortho: bool, theta: f64, phi: f64, dist: f64) -> View {
+    let (lo, hi) = mesh.bounding_box().unwrap();
+    let c = (lo + hi) / 2.0;
+    let r = (hi - lo).length() / 2.0;
+    let dir = DVec3::new(phi.sin() * theta.cos(), phi.sin() * theta.sin(), phi.cos());
+    let eye = c + dir * r * dist;
+    let up = if dir.cross(DVec3::Y).length() < 1e-3 {
+        DVec3::X
+    } else {
+        DVec3::Y
+    };
+    let look = DMat4::look_at_rh(eye, c, up);
+    let proj = if ortho {
+        DMat4::orthographic_rh_gl(-r * 1.2, r * 1.2, -r * 0.9, r * 0.9, 0.01, 100.0 * r)
+    } else {
+        DMat4::perspective_rh_gl(50f64.to_radians(), 800.0 / 600.0, 0.01, 100.0 * r)
+    };
+    View::new(proj * look, [0.0, 0.0, 800.0, 600.0])
+}

@@ -1,8 +1,9 @@
 //! The cut region: candidate faces with local vertex ids, local edge adjacency (sorted
 //! vectors, no hashing), the local manifold check, and L.
 //!
-//! Only the faces within the snap margin of the stroke are ever looked at after the two
-//! streaming passes ([`super::candidates`]). Every vertex within the margin has all its faces
+//! Only the faces within the snap distance of the stroke (max_ratio · L) are ever looked at
+//! after the two streaming passes ([`super::candidates`]) and L's measurement on their
+//! candidates. Every vertex within that distance has all its faces
 //! among them ("complete"), and so has every edge the stroke crosses, so the local adjacency
 //! is exact wherever the cut acts; faces straddling the eye plane are kept too, so an edge
 //! they share with a cut face is split on both sides.

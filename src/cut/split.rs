@@ -24,22 +24,49 @@ use super::region::{Region, NONE};
 /// A touched face's sub-triangles: at most four but where pieces meet in one face.
 pub(crate) type Pieces = SmallVec<[[u32; 3]; 4]>;
 
+/// Items for a few of `n` keys, stored in order of first use: most of the region's faces
+/// and edges are never touched, and per-key storage cost more to set up than to fill.
+struct Pool<T> {
+    slot: Vec<u32>,
+    items: Vec<T>,
+}
+
+impl<T> Pool<T> {
+    fn new(n: usize) -> Self {
+        Pool {
+            slot: vec![NONE; n],
+            items: Vec::new(),
+        }
+    }
+
+    fn get(&self, key: u32) -> Option<&T> {
+        let k = self.slot[key as usize];
+        (k != NONE).then(|| &self.items[k as usize])
+    }
+
+    /// The item of `key`, made by `new` on first use (then `true`).
+    fn get_or_insert(&mut self, key: u32, new: impl FnOnce() -> T) -> (&mut T, bool) {
+        let first = self.slot[key as usize] == NONE;
+        if first {
+            self.slot[key as usize] = self.items.len() as u32;
+            self.items.push(new());
+        }
+        (&mut self.items[self.slot[key as usize] as usize], first)
+    }
+}
+
 pub(crate) struct Splitter<'r> {
     pub r: &'r Region,
     /// New vertices (local ids from `r.verts.len()` on).
     pub new_pos: Vec<DVec3>,
     pub new_screen: Vec<DVec2>,
-    /// Sub-triangles of the touched faces, `pieces[k]` of face `touched[k]`; `slot[lf]`
-    /// is `k`, or `NONE` while face `lf` is whole. (A pool: most of the region's faces and
-    /// edges are never touched, and per-face storage cost more to set up than to fill.)
-    pieces: Vec<Pieces>,
-    slot: Vec<u32>,
+    /// Sub-triangles of the touched faces (the pool's items are in `touched`'s order).
+    pieces: Pool<Pieces>,
     /// Touched faces in order of first touch.
     pub touched: Vec<u32>,
     /// Vertices on each split local edge, by screen parameter from its first to its second
-    /// end: `on_edge[edge_slot[e]]`.
-    on_edge: Vec<SmallVec<[(f64, u32); 2]>>,
-    edge_slot: Vec<u32>,
+    /// end.
+    on_edge: Pool<SmallVec<[(f64, u32); 2]>>,
     /// The vertex of each E or P element already placed.
     placed: FxHashMap<Elem, u32>,
     /// Screen distance under which a constructed point is an existing vertex (1e-9·L).
@@ -52,11 +79,9 @@ impl<'r> Splitter<'r> {
             r,
             new_pos: Vec::new(),
             new_screen: Vec::new(),
-            pieces: Vec::new(),
-            slot: vec![NONE; r.tri.len()],
+            pieces: Pool::new(r.tri.len()),
             touched: Vec::new(),
-            on_edge: Vec::new(),
-            edge_slot: vec![NONE; r.edges.len()],
+            on_edge: Pool::new(r.edges.len()),
             placed: FxHashMap::default(),
             eps_px: 1e-9 * l_px.max(1.0),
         }
@@ -113,21 +138,20 @@ impl<'r> Splitter<'r> {
     }
 
     fn subs_mut(&mut self, lf: u32) -> &mut Pieces {
-        if self.slot[lf as usize] == NONE {
-            // The usual three or four pieces held inline (no allocation per face).
-            self.slot[lf as usize] = self.pieces.len() as u32;
-            let mut subs = Pieces::new();
-            subs.push(self.r.tri[lf as usize]);
-            self.pieces.push(subs);
+        // The usual three or four pieces held inline (no allocation per face).
+        let whole = self.r.tri[lf as usize];
+        let (subs, first) = self
+            .pieces
+            .get_or_insert(lf, || Pieces::from_slice(&[whole]));
+        if first {
             self.touched.push(lf);
         }
-        &mut self.pieces[self.slot[lf as usize] as usize]
+        subs
     }
 
     /// The sub-triangles of a touched face.
     pub fn pieces_of(&self, lf: u32) -> Option<&Pieces> {
-        let k = self.slot[lf as usize];
-        (k != NONE).then(|| &self.pieces[k as usize])
+        self.pieces.get(lf)
     }
 
     /// The current sub-triangles of a face (its triangle when untouched).
@@ -195,19 +219,12 @@ impl<'r> Splitter<'r> {
 
     /// The vertices inserted on a local edge, from its first end to its second.
     pub fn edge_vertices(&self, e: u32) -> &[(f64, u32)] {
-        match self.edge_slot[e as usize] {
-            NONE => &[],
-            k => &self.on_edge[k as usize],
-        }
+        self.on_edge.get(e).map_or(&[], |l| l)
     }
 
     fn insert_on_edge(&mut self, e: u32, m: u32, t: f64) {
         let [a, b] = self.r.edges[e as usize];
-        if self.edge_slot[e as usize] == NONE {
-            self.edge_slot[e as usize] = self.on_edge.len() as u32;
-            self.on_edge.push(SmallVec::new());
-        }
-        let list = &mut self.on_edge[self.edge_slot[e as usize] as usize];
+        let (list, _) = self.on_edge.get_or_insert(e, SmallVec::new);
         let k = list.partition_point(|&(x, _)| x < t);
         let u = if k == 0 { a } else { list[k - 1].1 };
         let w = if k == list.len() { b } else { list[k].1 };
@@ -379,21 +396,21 @@ impl<'r> Splitter<'r> {
     /// Flips the diagonal of sub-triangle `i`'s edge `r` if the quadrilateral is strictly
     /// convex (and, with `better`, only if the smallest angle grows).
     fn try_flip(&mut self, lf: u32, i: usize, r: usize, sign: f64, better: bool) -> bool {
-        let k = self.slot[lf as usize];
+        let k = self.pieces.slot[lf as usize];
         if k == NONE {
             // An untouched face has one sub-triangle: nothing to flip.
             return false;
         }
-        let mut subs = std::mem::take(&mut self.pieces[k as usize]);
+        let mut subs = std::mem::take(&mut self.pieces.items[k as usize]);
         let flipped = flip(&mut subs, i, r, sign, better, self);
-        self.pieces[k as usize] = subs;
+        self.pieces.items[k as usize] = subs;
         flipped
     }
 
     /// Max-min-angle flips of the non-path diagonals inside each split face (P2's quad).
     /// Faces are independent (flips stay inside one face), so they run on rayon.
     pub fn improve(&mut self, is_path_edge: &(dyn Fn(u32, u32) -> bool + Sync)) {
-        let mut pieces = std::mem::take(&mut self.pieces);
+        let mut pieces = std::mem::take(&mut self.pieces.items);
         let sp = &*self;
         pieces
             .par_iter_mut()
@@ -429,7 +446,7 @@ impl<'r> Splitter<'r> {
                     }
                 }
             });
-        self.pieces = pieces;
+        self.pieces.items = pieces;
     }
 }
 

@@ -8,9 +8,11 @@
 //!
 //! `torus` is the triangulated 1M-triangle torus, `spot` the shared `spot_quadrangulated.obj`
 //! subdivided 4 times and triangulated (1.5M triangles). Prints the fastest, the first
-//! quartile and the median call in milliseconds. Under `valgrind --tool=callgrind
-//! --toggle-collect='katachi::cut::plan*'` with `RAYON_NUM_THREADS=1` it counts the
-//! instructions of a cut, which, unlike times, do not depend on what else the machine does.
+//! quartile and the median call in milliseconds, and the cut's time over the floor's (the
+//! bench's projection pass, run right before each cut; `NOFLOOR=1` leaves it out). Under
+//! `valgrind --tool=callgrind --toggle-collect='katachi::cut::plan*'` with
+//! `RAYON_NUM_THREADS=1` it counts the instructions of a cut, which, unlike times, do not
+//! depend on what else the machine does.
 
 use std::path::Path;
 use std::time::Instant;
@@ -65,21 +67,58 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     );
     let options = CutOptions::with_mode(mode);
 
-    let mut ms = Vec::with_capacity(calls);
+    // Each cut right after one floor pass (the bench's: every vertex through the matrix and
+    // viewport into a kept array), both timed, so the ratio is taken side by side.
+    let (mut ms, mut floor, mut ratio) = (Vec::new(), Vec::new(), Vec::new());
+    let mut screen: Vec<DVec2> = Vec::new();
     for _ in 0..calls {
+        let start = Instant::now();
+        if std::env::var_os("NOFLOOR").is_none() {
+            project_all(&mesh, &view, &mut screen);
+        }
+        std::hint::black_box(&screen);
+        let f = start.elapsed().as_secs_f64() * 1e3;
         let start = Instant::now();
         drop(std::hint::black_box(cut_edits(
             &mesh, &stroke, &view, &options,
         )?));
-        ms.push(start.elapsed().as_secs_f64() * 1e3);
+        let c = start.elapsed().as_secs_f64() * 1e3;
+        ms.push(c);
+        floor.push(f);
+        ratio.push(c / f);
     }
-    ms.sort_by(f64::total_cmp);
+    for v in [&mut ms, &mut floor, &mut ratio] {
+        v.sort_by(f64::total_cmp);
+    }
     println!(
-        "{} triangles, {mode:?}, {calls} calls: min {:.3} ms, p25 {:.3} ms, median {:.3} ms",
+        "{} triangles, {mode:?}, {calls} calls: min {:.3} ms, p25 {:.3} ms, median {:.3} ms; \
+         floor median {:.3} ms; cut / floor per call: p25 {:.2}, median {:.2}",
         mesh.face_count(),
         ms[0],
         ms[calls / 4],
-        ms[calls / 2]
+        ms[calls / 2],
+        floor[calls / 2],
+        ratio[calls / 4],
+        ratio[calls / 2],
     );
     Ok(())
+}
+
+/// The bench's floor (`benches/cut.rs`): every vertex through the view-projection matrix and
+/// viewport, into `out`.
+fn project_all(mesh: &katachi::PolyMesh, view: &View, out: &mut Vec<DVec2>) {
+    use rayon::prelude::*;
+    let (vp, v) = (view.view_proj, view.viewport);
+    mesh.positions()
+        .par_iter()
+        .with_min_len(1 << 14)
+        .map(|&p| {
+            let c = vp * p.extend(1.0);
+            let inv = 1.0 / c.w;
+            DVec2::new(
+                v[0] + (c.x * inv + 1.0) * 0.5 * v[2],
+                v[1] + (1.0 - c.y * inv) * 0.5 * v[3],
+            )
+        })
+        .collect_into_vec(out);
 }

@@ -449,14 +449,16 @@ pub(crate) fn segment_meets_triangle(a: DVec2, b: DVec2, t: [DVec2; 3]) -> bool 
     })
 }
 
-/// ([`segment_meets_triangle`], [`segment_near_triangle`]) of segment `ab` and triangle `t`
-/// (near: within `r`), with a shortcut for the common case of a triangle that lies across
-/// the segment's slab (every corner projects strictly inside the segment) and clearly off
-/// its line or clearly across it: off, the nearest points are a corner and its foot on the
-/// segment, tested as [`within`] tests it; across, the line's chord through the triangle
-/// is inside the slab, so the segment meets it. A corner within a billionth of the squared
-/// length of the line takes the general tests (rounding would decide it).
-pub(crate) fn segment_and_triangle(a: DVec2, b: DVec2, t: [DVec2; 3], r: f64) -> (bool, bool) {
+/// `None` when segment `ab` and triangle `t` meet ([`segment_meets_triangle`]), else the
+/// square of the gap between them (plain f64: callers compare it with a slack). A shortcut
+/// for the common case of a triangle that lies across the segment's slab (every corner
+/// projects strictly inside the segment) and clearly off its line or clearly across it:
+/// off, the nearest points are a corner and its foot on the segment; across, the line's
+/// chord through the triangle is inside the slab, so the segment meets it. A corner within
+/// a billionth of the squared length of the line takes the general tests (rounding would
+/// decide it). One gap, not a yes/no at a radius: the region keeps faces by it at two radii
+/// (the first guess's margin, then the snap distance) from one walk over the grid.
+pub(crate) fn segment_triangle_gap2(a: DVec2, b: DVec2, t: [DVec2; 3]) -> Option<f64> {
     let ab = b - a;
     let len2 = ab.length_squared();
     let mut slab = true;
@@ -472,22 +474,37 @@ pub(crate) fn segment_and_triangle(a: DVec2, b: DVec2, t: [DVec2; 3], r: f64) ->
     let tiny = 1e-9 * len2;
     if slab && (lo > tiny || hi < -tiny) {
         let c = if lo > 0.0 { lo } else { hi };
-        return (false, c * c <= r * r * len2);
+        return Some(c * c / len2);
     }
-    if slab && lo < -tiny && hi > tiny {
-        return (true, true);
+    if (slab && lo < -tiny && hi > tiny) || segment_meets_triangle(a, b, t) {
+        return None;
     }
-    let meets = segment_meets_triangle(a, b, t);
-    (meets, meets || segment_near_triangle(a, b, t, r))
+    // Apart: the nearest pair has an end point of one on the other.
+    let mut gap2 = f64::INFINITY;
+    for i in 0..3 {
+        let (p, q) = (t[i], t[(i + 1) % 3]);
+        gap2 = gap2
+            .min(distance2(a, p, q))
+            .min(distance2(b, p, q))
+            .min(distance2(p, a, b));
+    }
+    Some(gap2)
 }
 
-/// Whether a segment and a triangle that do not meet come within `r` of each other: the
-/// nearest pair has an end point of one on the other.
-pub(crate) fn segment_near_triangle(a: DVec2, b: DVec2, t: [DVec2; 3], r: f64) -> bool {
-    (0..3).any(|i| {
-        let (p, q) = (t[i], t[(i + 1) % 3]);
-        within(a, p, q, r) || within(b, p, q, r) || within(p, a, b, r)
-    })
+/// The squared distance from `p` to segment `ab` (plain f64).
+#[inline]
+fn distance2(p: DVec2, a: DVec2, b: DVec2) -> f64 {
+    let (ab, ap) = (b - a, p - a);
+    let t = ap.dot(ab);
+    if t <= 0.0 {
+        return ap.length_squared();
+    }
+    let len2 = ab.length_squared();
+    if t >= len2 {
+        return (p - b).length_squared();
+    }
+    let c = ab.perp_dot(ap);
+    c * c / len2
 }
 
 /// A cheap guess of the mean screen edge length, to size the snap margin before the real L

@@ -11,7 +11,7 @@
 use glam::{DVec2, DVec3};
 use rayon::prelude::*;
 
-use super::candidates::{point_segment_distance, segment_and_triangle, CellGrid, Kept};
+use super::candidates::{point_segment_distance, segment_triangle_gap2, CellGrid, Kept};
 use super::geom::orient;
 use super::options::{CutMode, CutOptions};
 use super::view::{Projector, Seen};
@@ -89,7 +89,7 @@ impl Region {
             .map(|&p| proj.see(p))
             .collect();
         // Membership measured on screen, each vertex projected once.
-        let mut near: Vec<Option<bool>> = tri
+        let near: Vec<Option<Near>> = tri
             .par_iter()
             .with_min_len(1024)
             .map(|&t| face_near(t, &seen, grid, segments, margin))
@@ -103,15 +103,11 @@ impl Region {
             return Ok(Built::Grow(length.px));
         }
         // Down to the snap distance: the faces the stroke meets stay, the others only if
-        // they come within reach (the same conservative test at the smaller radius).
-        near.par_iter_mut()
-            .zip(&tri)
-            .with_min_len(1024)
-            .for_each(|(n, &t)| {
-                if *n == Some(false) {
-                    *n = face_near(t, &seen, grid, segments, reach).map(|_| false);
-                }
-            });
+        // they come within reach.
+        let near: Vec<Option<bool>> = near
+            .iter()
+            .map(|n| n.filter(|n| n.within(reach)).map(|n| n == Near::Met))
+            .collect();
         let NearFaces {
             faces,
             tri,
@@ -231,11 +227,11 @@ pub(crate) struct EdgeLength {
 
 /// L: the mean screen (and world) length of the edges of projectable, non-degenerate faces
 /// that the stroke meets (gap-fill for seed 002 §3.2's "mean edge length", spec §4), each
-/// edge once, summed in face then corner order. `near[f] == Some(true)`: the stroke meets
+/// edge once, summed in face then corner order. `near[f] == Some(Near::Met)`: the stroke meets
 /// face `f` (whose corners are then all in front of the eye).
 fn mean_edge_length(
     tri: &[[u32; 3]],
-    near: &[Option<bool>],
+    near: &[Option<Near>],
     seen: &[Option<Seen>],
     pos: &[DVec3],
 ) -> EdgeLength {
@@ -266,7 +262,7 @@ fn mean_edge_length(
     };
     let pos = |v: u32| pos[v as usize];
     for (lf, t) in tri.iter().enumerate() {
-        if near[lf] != Some(true) {
+        if near[lf] != Some(Near::Met) {
             continue;
         }
         if is_degenerate(
@@ -305,34 +301,61 @@ fn is_degenerate(a: DVec2, b: DVec2, c: DVec2, p: [DVec3; 3]) -> bool {
     orient(a, b, c) == 0.0 || (p[1] - p[0]).cross(p[2] - p[0]).length() == 0.0
 }
 
-/// Whether face `t` comes within `margin` of the stroke on screen: `Some(whether the stroke
-/// meets it)` ([`segment_and_triangle`]; L is measured on those), or `None`. Plain f64
-/// with a relative slack on the margin: membership only needs to be conservative (a face
-/// around a vertex within the margin is at most as far as that vertex, by the same
-/// arithmetic), and L is a mean; every topological decision is taken later by exact
-/// predicates. A face with a corner behind the eye is kept (never cut).
+/// How near a face is to the stroke on screen ([`face_near`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) enum Near {
+    /// The stroke meets it (L is measured on those).
+    Met,
+    /// It is apart, this squared gap away (0 for a face with a corner behind the eye: kept
+    /// at every radius, never cut).
+    Gap2(f64),
+}
+
+/// The slack on a radius: membership only needs to be conservative.
+#[inline]
+fn keep_radius(r: f64) -> f64 {
+    r * (1.0 + 1e-9) + 1e-12
+}
+
+impl Near {
+    /// Whether a face this near is within `r` of the stroke (up to [`keep_radius`]'s slack).
+    #[inline]
+    fn within(self, r: f64) -> bool {
+        match self {
+            Near::Met => true,
+            Near::Gap2(g) => g <= keep_radius(r) * keep_radius(r),
+        }
+    }
+}
+
+/// How near face `t` is to the stroke on screen, or `None` beyond `margin`
+/// ([`segment_triangle_gap2`]). Plain f64 with a relative slack on the margin: membership
+/// only needs to be conservative (a face around a vertex within the margin is at most as
+/// far as that vertex, up to rounding far below the slack), and L is a mean; every
+/// topological decision is taken later by exact predicates.
 fn face_near(
     t: [u32; 3],
     seen: &[Option<Seen>],
     grid: &CellGrid,
     segments: &[(DVec2, DVec2)],
     margin: f64,
-) -> Option<bool> {
+) -> Option<Near> {
     let [Some(a), Some(b), Some(c)] = t.map(|v| seen[v as usize]) else {
-        return Some(false);
+        return Some(Near::Gap2(0.0));
     };
     let s = [a.screen, b.screen, c.screen];
-    let keep = margin * (1.0 + 1e-9) + 1e-12;
+    let keep = keep_radius(margin);
     let pad = DVec2::splat(keep);
     let (lo, hi) = (s[0].min(s[1]).min(s[2]), s[0].max(s[1]).max(s[2]));
     // A segment within `keep` of the face is within `keep` of a point of the face's box, and
     // the cell of that point lists every segment within the margin of it (cells list those
     // within the margin and half a diagonal of their centre, with a relative slack of 1e-4
     // of the half diagonal, far above 1e-9 of the margin). Each segment tested once: the last
-    // few tested are remembered (a segment spans many cells of a small box).
+    // few tested are remembered (a segment spans many cells of a small box). Segments whose
+    // box is farther than `keep` are skipped: they cannot be the nearest within it.
     let (x0, y0, x1, y1) = grid.range(lo, hi)?;
     let (lo, hi) = (lo - pad, hi + pad);
-    let mut near = false;
+    let mut gap2 = f64::INFINITY;
     let mut recent = [u32::MAX; 4];
     for cy in y0..y1 + 1 {
         for cx in x0..x1 + 1 {
@@ -346,15 +369,14 @@ fn face_near(
                 if p.max(q).cmplt(lo).any() || p.min(q).cmpgt(hi).any() {
                     continue;
                 }
-                let (meets, within) = segment_and_triangle(p, q, s, keep);
-                if meets {
-                    return Some(true);
+                match segment_triangle_gap2(p, q, s) {
+                    None => return Some(Near::Met),
+                    Some(g) => gap2 = gap2.min(g),
                 }
-                near |= within;
             }
         }
     }
-    near.then_some(false)
+    (gap2 <= keep * keep).then_some(Near::Gap2(gap2))
 }
 
 /// The candidates [`face_near`] kept, vertices renumbered in the same (ascending global)

@@ -107,7 +107,9 @@ impl CellGrid {
                 }
             }
         }
-        pairs.sort_unstable();
+        // By cell; each cell's segments stay ascending (pushed in segment order, and the
+        // radix sort is stable): a comparison sort of the pairs cost a fifth of the grid.
+        super::radix::sort_by_key(&mut pairs);
         // Dilations by NEAR_RING, then CLOSE_RING cells (Chebyshev), from the runs of marked
         // cells along each row (pairs are in row-major cell order): one span per run and
         // row it reaches. The band is thin and mostly along rows, so this writes a few spans

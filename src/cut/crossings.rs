@@ -534,37 +534,38 @@ pub(crate) fn chains(
 ) -> Vec<Chain> {
     let lo = occ.partition_point(|o| key_cmp(o.key, (j0, 0.0)).is_lt());
     let hi = occ.partition_point(|o| key_cmp(o.key, (j1, 0.0)).is_le());
-    let mut entries: Vec<(u32, u32)> = Vec::new();
-    let mut faces = Vec::new();
-    for (i, o) in occ.iter().enumerate().take(hi).skip(lo) {
-        elem_faces(region, o.elem, &mut faces);
-        entries.extend(faces.iter().map(|&f| (f, i as u32)));
-    }
-    // By face, then position: the positions come ascending and the sort is stable.
-    super::radix::sort_by_key(&mut entries);
+    // Consecutive visits of each face, from the last element seen on it (positions come
+    // ascending): the pairs a sort of (face, position) would put side by side.
+    let mut last = vec![NONE; region.tri.len()];
     let mut links: Vec<(u32, u32)> = Vec::new();
-    for w in entries.windows(2) {
-        let ((fx, x), (fy, y)) = (w[0], w[1]);
-        if fx != fy {
-            continue;
-        }
-        let (ox, oy) = (&occ[x as usize], &occ[y as usize]);
-        // A visit needs stroke between its ends: two elements at one stroke position (a
-        // moved end and another sheet's) are not joined.
-        if !(ox.visible && oy.visible) || ox.elem == oy.elem || key_cmp(ox.key, oy.key).is_eq() {
-            continue;
-        }
-        let j = ox.key.0 + 1;
-        let between = j < oy.key.0 || (j == oy.key.0 && oy.key.1 > 0.0);
-        let linked = if !between {
-            // Same segment: the chord lies in the (convex) face, or along one of its edges.
-            true
-        } else {
-            let [a, b, c] = region.face_screen(fx);
-            in_triangle(a, b, c, region.sign[fx as usize], line.pts[j as usize]) == Some(true)
-        };
-        if linked {
-            links.push((x, y));
+    let mut faces = Vec::new();
+    for (i, oy) in occ.iter().enumerate().take(hi).skip(lo) {
+        let y = i as u32;
+        elem_faces(region, oy.elem, &mut faces);
+        for &f in &faces {
+            let x = std::mem::replace(&mut last[f as usize], y);
+            if x == NONE {
+                continue;
+            }
+            let ox = &occ[x as usize];
+            // A visit needs stroke between its ends: two elements at one stroke position (a
+            // moved end and another sheet's) are not joined.
+            if !(ox.visible && oy.visible) || ox.elem == oy.elem || key_cmp(ox.key, oy.key).is_eq()
+            {
+                continue;
+            }
+            let j = ox.key.0 + 1;
+            let between = j < oy.key.0 || (j == oy.key.0 && oy.key.1 > 0.0);
+            let linked = if !between {
+                // Same segment: the chord lies in the (convex) face, or along one of its edges.
+                true
+            } else {
+                let [a, b, c] = region.face_screen(f);
+                in_triangle(a, b, c, region.sign[f as usize], line.pts[j as usize]) == Some(true)
+            };
+            if linked {
+                links.push((x, y));
+            }
         }
     }
     links.sort_unstable();

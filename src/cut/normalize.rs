@@ -70,36 +70,47 @@ fn collapse(region: &Region, occ: &[Occ], a: &mut Vec<u32>) {
 /// Returns whether anything was removed.
 fn fig9(region: &Region, occ: &[Occ], a: &mut Vec<u32>) -> bool {
     let n = a.len();
-    let mut entries: Vec<(u32, u32)> = Vec::new();
+    // Each face's positions in A, ascending (a counting sort by face: the faces are the
+    // region's, a few thousand).
+    let nf = region.tri.len();
+    let mut start = vec![0u32; nf + 1];
     let mut scratch = Vec::new();
+    let mut entries: Vec<(u32, u32)> = Vec::new();
     for (k, &o) in a.iter().enumerate() {
         elem_faces(region, occ[o as usize].elem, &mut scratch);
-        entries.extend(scratch.iter().map(|&f| (f, k as u32)));
+        for &f in &scratch {
+            start[f as usize + 1] += 1;
+            entries.push((f, k as u32));
+        }
     }
-    // By face, then position: the positions come ascending and the sort is stable.
-    super::radix::sort_by_key(&mut entries);
+    for f in 0..nf {
+        start[f + 1] += start[f];
+    }
+    let mut fill = start.clone();
+    let mut at = vec![0u32; entries.len()];
+    for &(f, k) in &entries {
+        at[fill[f as usize] as usize] = k;
+        fill[f as usize] += 1;
+    }
     let mut alive = vec![true; n];
     let mut next: Vec<usize> = (1..=n).collect();
     let mut removed_any = false;
     loop {
         let mut removed = false;
-        let mut i0 = 0;
-        while i0 < entries.len() {
-            let t = entries[i0].0;
-            let mut i1 = i0;
-            while i1 < entries.len() && entries[i1].0 == t {
-                i1 += 1;
+        for t in 0..nf {
+            let group = &at[start[t] as usize..start[t + 1] as usize];
+            if group.len() < 2 {
+                continue;
             }
-            let group = &entries[i0..i1];
             let first = group
                 .iter()
-                .find(|e| alive[e.1 as usize])
-                .map(|e| e.1 as usize);
+                .find(|&&k| alive[k as usize])
+                .map(|&k| k as usize);
             let last = group
                 .iter()
                 .rev()
-                .find(|e| alive[e.1 as usize])
-                .map(|e| e.1 as usize);
+                .find(|&&k| alive[k as usize])
+                .map(|&k| k as usize);
             if let (Some(i), Some(j)) = (first, last) {
                 if next[i] < j {
                     let mut k = next[i];
@@ -111,7 +122,6 @@ fn fig9(region: &Region, occ: &[Occ], a: &mut Vec<u32>) -> bool {
                     removed = true;
                 }
             }
-            i0 = i1;
         }
         if !removed {
             break;

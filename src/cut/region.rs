@@ -78,16 +78,16 @@ impl Region {
         let (mode, depth_eps_rel) = (options.mode, options.depth_eps_rel);
         let (verts, tri) = local_ids(&candidates.corners, mesh.vertex_count() as usize);
         // Each position read once from the mesh (its vertices are scattered through it:
-        // reading them again per edge or face missed the caches).
-        let pos: Vec<DVec3> = verts
-            .iter()
-            .map(|&g| mesh.positions()[g as usize])
-            .collect();
-        let seen: Vec<Option<Seen>> = pos
+        // reading them again per edge or face missed the caches), on rayon with the
+        // projection so the misses overlap.
+        let (pos, seen): (Vec<DVec3>, Vec<Option<Seen>>) = verts
             .par_iter()
             .with_min_len(1024)
-            .map(|&p| proj.see(p))
-            .collect();
+            .map(|&g| {
+                let p = mesh.positions()[g as usize];
+                (p, proj.see(p))
+            })
+            .unzip();
         // Membership measured on screen, each vertex projected once.
         let near: Vec<Option<Near>> = tri
             .par_iter()
@@ -399,7 +399,11 @@ fn keep_near(
     near: &[Option<bool>],
 ) -> NearFaces {
     let mut new_id = vec![NONE; verts.len()];
-    let (mut faces, mut kept) = (Vec::new(), Vec::new());
+    let kept_faces = near.iter().filter(|n| n.is_some()).count();
+    let (mut faces, mut kept) = (
+        Vec::with_capacity(kept_faces),
+        Vec::with_capacity(kept_faces),
+    );
     for ((&f, t), n) in candidates.iter().zip(&tri).zip(near) {
         if n.is_some() {
             faces.push(f);
@@ -409,7 +413,12 @@ fn keep_near(
             }
         }
     }
-    let (mut verts2, mut seen2, mut pos2) = (Vec::new(), Vec::new(), Vec::new());
+    let kept_verts = new_id.iter().filter(|&&id| id == 0).count();
+    let (mut verts2, mut seen2, mut pos2) = (
+        Vec::with_capacity(kept_verts),
+        Vec::with_capacity(kept_verts),
+        Vec::with_capacity(kept_verts),
+    );
     for (v, id) in new_id.iter_mut().enumerate() {
         if *id == 0 {
             *id = verts2.len() as u32;

@@ -17,6 +17,7 @@ use glam::{DVec2, DVec3};
 use rayon::prelude::*;
 
 use super::geom::{in_triangle, on_segment, orient};
+use super::locate::Locator;
 use super::region::{Region, NONE};
 use super::snap::Polyline;
 use super::visibility::{Before, FaceBuckets};
@@ -97,8 +98,9 @@ pub(crate) fn canon(line: &Polyline, closed: bool, j: u32) -> u32 {
 }
 
 /// All meetings of the stroke with elements of cuttable faces, sorted by key.
-/// `seg_range[si]` = the polyline segments inside prepared segment `si`; `before`, in
-/// visible-only mode, the region before snapping.
+/// `seg_range[si]` = the polyline segments inside prepared segment `si`; `locate` finds the
+/// faces of piece ends; `seen`, in visible-only mode, the visibility buckets and the region
+/// before snapping.
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn find_occurrences(
     region: &Region,
@@ -107,12 +109,11 @@ pub(crate) fn find_occurrences(
     prepared_segments_near: &(dyn Fn(DVec2, DVec2, &mut Vec<u32>) + Sync),
     seg_range: &[(u32, u32)],
     piece_ends: &[u32],
-    buckets: &FaceBuckets,
-    before: Option<&Before>,
+    locate: &Locator,
+    seen: Option<(&FaceBuckets, &Before)>,
     end_snap: f64,
     ends_moved: &mut Vec<u32>,
 ) -> Vec<Occ> {
-    let visible_only = before.is_some();
     let pts = &line.pts;
     let last = (pts.len() - 1) as u32;
     let mk = |key: (u32, f64), elem: Elem, screen: DVec2| Occ {
@@ -266,7 +267,7 @@ pub(crate) fn find_occurrences(
     // Piece ends strictly inside faces (seed 002 §3.4, Figs. 12-13).
     for &j in piece_ends {
         let s = pts[j as usize];
-        for lf in buckets.faces_at(s) {
+        for lf in locate.faces_at(region, s) {
             if !region.cuttable[lf as usize] {
                 continue;
             }
@@ -319,11 +320,11 @@ pub(crate) fn find_occurrences(
         occ.extend(extra);
         sort_occurrences(&mut occ);
     }
-    if visible_only {
+    if let Some((buckets, before)) = seen {
         occ.par_iter_mut().with_min_len(64).for_each(|o| {
             let (z, x) = elem_depth(region, o);
             // A point snapping did not move must also have been seen before it.
-            let still = before.filter(|b| !elem_moved(region, b, o.elem));
+            let still = Some(before).filter(|b| !elem_moved(region, b, o.elem));
             let (pair, one);
             let own: &[u32] = match o.elem {
                 Elem::V(v) => region.vertex_faces(v),

@@ -69,6 +69,7 @@ mod crossings;
 mod edits;
 mod geom;
 mod interpolate;
+mod locate;
 mod normalize;
 mod open;
 mod options;
@@ -96,7 +97,7 @@ use crate::mesh::{FaceId, PolyMesh, VertexId};
 use candidates::CellGrid;
 use crossings::{Elem, Occ};
 use region::{Region, NONE};
-use visibility::{Before, FaceBuckets};
+use visibility::Before;
 
 /// Cuts `mesh` along `stroke` drawn over `view` (seed 002; spec §4). Never changes `mesh`.
 ///
@@ -205,7 +206,7 @@ fn plan<'a>(
                 && (!visible_only || faces.iter().all(|&f| region.cuttable[f as usize]))
         })
         .collect();
-    let seen_before: Vec<bool> = if visible_only {
+    let seen_before: Vec<bool> = if let Some(buckets) = &buckets {
         let near_stroke = |s: DVec2| {
             grid.range(s, s).is_some_and(|(cx, cy, _, _)| {
                 grid.segments_at(cx, cy).iter().any(|&k| {
@@ -293,6 +294,18 @@ fn plan<'a>(
             }
         }
     };
+    // The faces under piece ends and stroke points (for the report): the buckets, or
+    // through all a table for just those points.
+    let locate = match &buckets {
+        Some(b) => locate::Locator::Buckets(b),
+        None => locate::Locator::Points(locate::PointFaces::new(
+            &region,
+            (0..line.pts.len())
+                .filter(|j| line.src[*j].is_some() || bounds.contains(&(*j as u32)))
+                .map(|j| line.pts[j]),
+        )),
+    };
+    trace.mark("locate");
     let mut ends_moved: Vec<u32> = Vec::new();
     let occ = crossings::find_occurrences(
         &region,
@@ -301,8 +314,8 @@ fn plan<'a>(
         &near,
         &snapped.seg_range,
         &bounds,
-        &buckets,
-        before.as_ref(),
+        &locate,
+        buckets.as_ref().zip(before.as_ref()),
         options.snap_segment_ratio * l_px / 3.0,
         &mut ends_moved,
     );
@@ -584,16 +597,7 @@ fn plan<'a>(
     report.degenerate_faces = length.degenerate_met.iter().map(|&t| tri_face(t)).collect();
     report.degenerate_faces.sort_unstable();
     report.degenerate_faces.dedup();
-    report.dropped = dropped_points(
-        &prep,
-        line,
-        &occ,
-        &in_chain,
-        &in_final,
-        &region,
-        &buckets,
-        visible_only,
-    );
+    report.dropped = dropped_points(&prep, line, &occ, &in_chain, &in_final, &region, &locate);
     let edits = CutEdits {
         input_vertex_count: mesh.vertex_count(),
         input_triangle_count: tm.face_count(),
@@ -653,8 +657,7 @@ fn dropped_points(
     in_chain: &[bool],
     in_final: &[bool],
     region: &Region,
-    buckets: &FaceBuckets,
-    visible_only: bool,
+    locate: &locate::Locator,
 ) -> DroppedPoints {
     let mut d = DroppedPoints {
         preprocessing: prep.dropped.clone(),
@@ -678,14 +681,13 @@ fn dropped_points(
             continue;
         }
         let s = line.pts[j];
-        let inside = buckets.faces_at(s).any(|lf| {
+        let inside = locate.faces_at(region, s).into_iter().any(|lf| {
             if !region.cuttable[lf as usize] {
                 return false;
             }
             let [a, b, c] = region.face_screen(lf);
             geom::in_triangle(a, b, c, region.sign[lf as usize], s) == Some(true)
         });
-        let _ = visible_only;
         if inside && !here.clone().any(|i| matches!(occ[i].elem, Elem::P { .. })) {
             d.first_normalization.push(input);
         } else {

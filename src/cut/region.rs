@@ -137,19 +137,10 @@ impl Region {
         };
         let (buckets, (edge_table, (complete, (vf_start, vf_list)))) = rayon::join(
             || {
-                // Only visible-only mode asks what hides a point; through all, the buckets
-                // just locate piece ends, in any order.
-                let by_depth = mode == CutMode::VisibleOnly;
-                FaceBuckets::new(
-                    &tri,
-                    &sign,
-                    &seen,
-                    &pos,
-                    grid,
-                    depth_eps_rel,
-                    reach,
-                    by_depth,
-                )
+                // Only visible-only mode asks what hides a point (through all, the few
+                // points a cut locates get their own table: `locate`).
+                (mode == CutMode::VisibleOnly)
+                    .then(|| FaceBuckets::new(&tri, &sign, &seen, &pos, grid, depth_eps_rel, reach))
             },
             || rayon::join(|| edge_table(&tri, &verts), complete_vf),
         );
@@ -208,7 +199,8 @@ impl Region {
 pub(crate) enum Built {
     Region {
         region: Box<Region>,
-        buckets: FaceBuckets,
+        /// Visible-only mode's visibility buckets.
+        buckets: Option<FaceBuckets>,
         length: EdgeLength,
         /// The snap distance, max_ratio · L: the region holds every face within it.
         reach: f64,

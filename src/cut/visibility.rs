@@ -37,8 +37,6 @@ pub(crate) struct FaceBuckets {
     /// rounding `lo − pad` (and `hi + pad`) to nearest; the boxes' own outward rounding
     /// covers theirs.
     pad: f64,
-    /// Buckets nearest first ([`Self::hidden`] needs it).
-    by_depth: bool,
 }
 
 /// A face in a bucket with its screen box rounded outwards to f32 (queries grow it by the
@@ -69,8 +67,7 @@ impl FaceBuckets {
     /// Buckets of the region's faces; each face's screen box is grown by `slack` pixels (the
     /// snap distance) so the buckets stay valid while vertices move that far (snapping).
     /// The faces are `tri` (local vertex ids) with screen orientations `sign` (0: not
-    /// bucketed), their vertices seen as `seen` at `pos`. `by_depth`: each bucket nearest
-    /// first, for [`Self::hidden`] (else in face order, for [`Self::faces_at`] alone).
+    /// bucketed), their vertices seen as `seen` at `pos`. Each bucket is nearest first.
     #[allow(clippy::too_many_arguments)]
     pub fn new(
         tri: &[[u32; 3]],
@@ -80,7 +77,6 @@ impl FaceBuckets {
         grid: &CellGrid,
         depth_eps_rel: f64,
         slack: f64,
-        by_depth: bool,
     ) -> Self {
         // Buckets over the stroke grid's area, about two faces wide: the region's faces lie
         // in a band along the stroke, so sizing cells by area per face would put dozens of
@@ -137,12 +133,8 @@ impl FaceBuckets {
                     return None;
                 }
                 let cells = range(lo - pad, hi + pad)?;
-                let near = if by_depth {
-                    let z = tri[lf].map(|v| seen[v as usize].map_or(0.0, |s| s.z));
-                    down(z[0].min(z[1]).min(z[2]))
-                } else {
-                    0.0
-                };
+                let z = tri[lf].map(|v| seen[v as usize].map_or(0.0, |s| s.z));
+                let near = down(z[0].min(z[1]).min(z[2]));
                 let entry = Entry {
                     face: lf as u32,
                     near,
@@ -158,9 +150,7 @@ impl FaceBuckets {
             .filter_map(|(i, b)| b.map(|(_, e)| (f32_key(e.near), i as u32)))
             .collect();
         // Nearest first (ties by face), so every bucket is sorted by `near` for `hidden`.
-        if by_depth {
-            sort_by_key(&mut order);
-        }
+        sort_by_key(&mut order);
         let mut start = vec![0u32; ncell + 1];
         for &((x0, y0, x1, y1), _) in boxes.iter().flatten() {
             for cy in y0..y1 + 1 {
@@ -204,12 +194,11 @@ impl FaceBuckets {
             list,
             eps_world: depth_eps_rel * diag,
             pad: slack * (1.0 + 1e-9),
-            by_depth,
         }
     }
 
     /// Candidate faces whose screen box covers the cell of `s` (a superset of those holding
-    /// `s`): nearest corner depth first when built `by_depth`, else in face order.
+    /// `s`), nearest corner depth first.
     pub fn faces_at(&self, s: DVec2) -> impl Iterator<Item = u32> + '_ {
         self.entries_at(s).iter().map(|e| e.face)
     }
@@ -240,7 +229,6 @@ impl FaceBuckets {
         before: Option<&Before>,
         own: &[u32],
     ) -> bool {
-        debug_assert!(self.by_depth, "hidden() needs the buckets built by depth");
         for e in self.entries_at(s) {
             // Every face from here on has all its corners behind the point: NDC depth is
             // affine on a screen triangle, and snapping keeps depth, so none of them is

@@ -1,0 +1,138 @@
+//! Which faces may hold a screen point, for the few points a cut locates after snapping:
+//! the piece ends (seed 002 §3.4, Fig. 12: an end strictly inside a face) and the stroke
+//! points the report lists as dropped.
+//!
+//! Visible-only mode has its visibility buckets ([`FaceBuckets`]) and asks them. Through all,
+//! nothing else needs buckets, and building them for a few dozen points cost more than a
+//! cut's whole snapping step: [`PointFaces`] instead goes once over the region's faces and
+//! keeps, for each of those points, the faces whose screen box holds it.
+
+use glam::DVec2;
+use smallvec::SmallVec;
+
+use super::region::Region;
+use super::visibility::FaceBuckets;
+
+/// Candidate faces of a point: a superset of the non-degenerate, projectable faces holding
+/// it strictly inside (callers test each exactly).
+pub(crate) enum Locator<'a> {
+    Buckets(&'a FaceBuckets),
+    Points(PointFaces),
+}
+
+impl Locator<'_> {
+    /// The candidate faces of `s`: nearest first from the buckets, ascending otherwise.
+    pub fn faces_at(&self, region: &Region, s: DVec2) -> SmallVec<[u32; 8]> {
+        match self {
+            Locator::Buckets(b) => b.faces_at(s).collect(),
+            Locator::Points(p) => match p.faces_at(s) {
+                Some(faces) => faces.iter().copied().collect(),
+                // Not a point it was built for: every face's box (never happens in a cut;
+                // correct anyway).
+                None => (0..region.tri.len() as u32)
+                    .filter(|&lf| box_holds(region, lf, s))
+                    .collect(),
+            },
+        }
+    }
+}
+
+/// For each of a few points, the region's faces (ascending) whose screen box holds it.
+pub(crate) struct PointFaces {
+    /// The points, sorted by x then y, without repeats.
+    pts: Vec<DVec2>,
+    /// CSR: point `k`'s faces are `list[start[k]..start[k + 1]]`.
+    start: Vec<u32>,
+    list: Vec<u32>,
+}
+
+impl PointFaces {
+    /// The table for `points` on the region as it is now (after snapping).
+    pub fn new(region: &Region, points: impl IntoIterator<Item = DVec2>) -> Self {
+        let mut pts: Vec<DVec2> = points.into_iter().collect();
+        pts.sort_by(|a, b| a.x.total_cmp(&b.x).then(a.y.total_cmp(&b.y)));
+        pts.dedup();
+        let mut pairs: Vec<(u32, u32)> = Vec::new();
+        if let (Some(first), Some(last)) = (pts.first(), pts.last()) {
+            // Columns over the points' x range, marked where a point is: most faces are
+            // rejected by a bit or two (a binary search per face mispredicted its way to
+            // the cost of the rest of the loop).
+            let (x0, width) = (first.x, (last.x - first.x).max(1e-300));
+            const COLUMNS: usize = 4096;
+            let scale = (COLUMNS - 1) as f64 / width;
+            // Clamped, NaN to 0 (`f64::max` drops it); monotone in x.
+            let column = |x: f64| ((x - x0) * scale).max(0.0).min((COLUMNS - 1) as f64) as usize;
+            let mut marked = [0u64; COLUMNS / 64];
+            for p in &pts {
+                let c = column(p.x);
+                marked[c / 64] |= 1 << (c % 64);
+            }
+            let any_marked =
+                |c0: usize, c1: usize| (c0..=c1).any(|c| marked[c / 64] >> (c % 64) & 1 == 1);
+            // Each vertex's screen x once (NaN behind the eye: its faces are skipped).
+            let xs: Vec<f64> = region
+                .seen
+                .iter()
+                .map(|s| s.map_or(f64::NAN, |s| s.screen.x))
+                .collect();
+            for (lf, t) in region.tri.iter().enumerate() {
+                let x = t.map(|v| xs[v as usize]);
+                let (lo, hi) = (x[0].min(x[1]).min(x[2]), x[0].max(x[1]).max(x[2]));
+                // Also false for NaN.
+                if !(hi >= x0 && lo <= last.x) || !any_marked(column(lo), column(hi)) {
+                    continue;
+                }
+                let Some((lo, hi)) = face_box(region, lf as u32) else {
+                    continue;
+                };
+                let from = pts.partition_point(|p| p.x < lo.x);
+                for (k, p) in pts.iter().enumerate().skip(from) {
+                    if p.x > hi.x {
+                        break;
+                    }
+                    if p.y >= lo.y && p.y <= hi.y {
+                        pairs.push((k as u32, lf as u32));
+                    }
+                }
+            }
+        }
+        // By point, faces ascending within each (pushed in face order).
+        let mut start = vec![0u32; pts.len() + 1];
+        for &(k, _) in &pairs {
+            start[k as usize + 1] += 1;
+        }
+        for k in 0..pts.len() {
+            start[k + 1] += start[k];
+        }
+        let mut fill = start.clone();
+        let mut list = vec![0u32; pairs.len()];
+        for &(k, lf) in &pairs {
+            list[fill[k as usize] as usize] = lf;
+            fill[k as usize] += 1;
+        }
+        PointFaces { pts, start, list }
+    }
+
+    /// The faces of `s` if it is one of the table's points.
+    fn faces_at(&self, s: DVec2) -> Option<&[u32]> {
+        let k = self
+            .pts
+            .binary_search_by(|p| p.x.total_cmp(&s.x).then(p.y.total_cmp(&s.y)))
+            .ok()?;
+        Some(&self.list[self.start[k] as usize..self.start[k + 1] as usize])
+    }
+}
+
+/// The screen box of a face that can hold a point strictly inside (projectable, not
+/// degenerate). Minima and maxima are exact: a point inside the face is inside its box.
+fn face_box(region: &Region, lf: u32) -> Option<(DVec2, DVec2)> {
+    if region.sign[lf as usize] == 0.0 || !region.projectable(lf) {
+        return None;
+    }
+    let [a, b, c] = region.face_screen(lf);
+    Some((a.min(b).min(c), a.max(b).max(c)))
+}
+
+fn box_holds(region: &Region, lf: u32, s: DVec2) -> bool {
+    face_box(region, lf).is_some_and(|(lo, hi)| s.cmpge(lo).all() && s.cmple(hi).all())
+}

@@ -79,7 +79,7 @@ impl PointFaces {
                 let x = t.map(|v| xs[v as usize]);
                 let (lo, hi) = (x[0].min(x[1]).min(x[2]), x[0].max(x[1]).max(x[2]));
                 // Also false for NaN.
-                if !(hi >= x0 && lo <= last.x) || !any_marked(column(lo), column(hi)) {
+                if !(hi >= x0 && lo <= last.x && any_marked(column(lo), column(hi))) {
                     continue;
                 }
                 let Some((lo, hi)) = face_box(region, lf as u32) else {

@@ -78,7 +78,7 @@ impl PointFaces {
             for (lf, t) in region.tri.iter().enumerate() {
                 let x = t.map(|v| xs[v as usize]);
                 let (lo, hi) = (x[0].min(x[1]).min(x[2]), x[0].max(x[1]).max(x[2]));
-                // Also false for NaN.
+                // A corner behind the eye (NaN) drops out of min and max; `face_box` skips it.
                 if !(hi >= x0 && lo <= last.x && any_marked(column(lo), column(hi))) {
                     continue;
                 }

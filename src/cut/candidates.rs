@@ -203,8 +203,24 @@ impl CellGrid {
 
     /// Inclusive cell range of a box, clamped to the grid; `None` when it misses the grid.
     pub fn range(&self, lo: DVec2, hi: DVec2) -> Option<(i32, i32, i32, i32)> {
-        let (x0, y0) = cell_of(self.origin, self.inv_cell, lo);
-        let (x1, y1) = cell_of(self.origin, self.inv_cell, hi);
+        self.clamp(self.cell(lo), self.cell(hi))
+    }
+
+    /// The cell of a point, unclamped. Monotone in each coordinate, so the cells of a box's
+    /// corners are the least and greatest of its points' cells.
+    #[inline]
+    pub fn cell(&self, s: DVec2) -> (i32, i32) {
+        cell_of(self.origin, self.inv_cell, s)
+    }
+
+    /// The inclusive range from cell `lo` to cell `hi` clamped to the grid; `None` when it
+    /// misses the grid.
+    #[inline]
+    pub fn clamp(
+        &self,
+        (x0, y0): (i32, i32),
+        (x1, y1): (i32, i32),
+    ) -> Option<(i32, i32, i32, i32)> {
         if x1 < 0 || y1 < 0 || x0 >= self.nx || y0 >= self.ny {
             return None;
         }

@@ -16,6 +16,7 @@
 use glam::{DVec2, DVec3};
 use rayon::prelude::*;
 
+use super::candidates::CellGrid;
 use super::geom::{in_triangle, on_segment, orient};
 use super::locate::Locator;
 use super::region::{Region, NONE};
@@ -87,6 +88,21 @@ fn sort_occurrences(occ: &mut Vec<Occ>) {
     *occ = order.iter().map(|&i| occ[i as usize]).collect();
 }
 
+/// The prepared segments listed in the cells of an inclusive range, each once, in cell
+/// order (a range holds a few: a linear check beats sorting).
+fn segments_in(grid: &CellGrid, (x0, y0, x1, y1): (i32, i32, i32, i32), out: &mut Vec<u32>) {
+    out.clear();
+    for cy in y0..y1 + 1 {
+        for cx in x0..x1 + 1 {
+            for &k in grid.segments_at(cx, cy) {
+                if !out.contains(&k) {
+                    out.push(k);
+                }
+            }
+        }
+    }
+}
+
 /// The last polyline index of a closed stroke stands for index 0.
 #[inline]
 pub(crate) fn canon(line: &Polyline, closed: bool, j: u32) -> u32 {
@@ -106,7 +122,7 @@ pub(crate) fn find_occurrences(
     region: &Region,
     line: &Polyline,
     closed: bool,
-    prepared_segments_near: &(dyn Fn(DVec2, DVec2, &mut Vec<u32>) + Sync),
+    grid: &CellGrid,
     seg_range: &[(u32, u32)],
     piece_ends: &[u32],
     locate: &Locator,
@@ -131,6 +147,13 @@ pub(crate) fn find_occurrences(
         .collect();
     let subs =
         |si: u32, lo: DVec2, hi: DVec2| sub_range(pts, &tpar, seg_range[si as usize], lo, hi);
+    // Each vertex's grid cell once (an edge's cell range is its ends' least and greatest).
+    let cells: Vec<(i32, i32)> = region
+        .seen
+        .par_iter()
+        .with_min_len(1024)
+        .map(|s| s.map_or((0, 0), |s| grid.cell(s.screen)))
+        .collect();
     // Edges in fixed chunks on rayon, concatenated in edge order (thread-count independent).
     let chunks: Vec<Vec<Occ>> = region
         .edges
@@ -146,9 +169,20 @@ pub(crate) fn find_occurrences(
                     continue;
                 }
                 let (a, b) = (region.screen(ia), region.screen(ib));
-                near.clear();
-                prepared_segments_near(a.min(b), a.max(b), &mut near);
-                for &si in near.iter() {
+                let (ca, cb) = (cells[ia as usize], cells[ib as usize]);
+                let near = match grid.clamp(
+                    (ca.0.min(cb.0), ca.1.min(cb.1)),
+                    (ca.0.max(cb.0), ca.1.max(cb.1)),
+                ) {
+                    None => continue,
+                    // One cell: its segments, each once already.
+                    Some((x0, y0, x1, y1)) if x0 == x1 && y0 == y1 => grid.segments_at(x0, y0),
+                    Some(range) => {
+                        segments_in(grid, range, &mut near);
+                        &near[..]
+                    }
+                };
+                for &si in near {
                     if strips[si as usize].apart(a, b) {
                         continue;
                     }
@@ -231,16 +265,18 @@ pub(crate) fn find_occurrences(
         .chunks(256)
         .map(|chunk| {
             let mut occ: Vec<Occ> = Vec::new();
-            let mut near: Vec<u32> = Vec::new();
             for v in chunk {
                 let faces = region.vertex_faces(v);
                 if !faces.iter().any(|&f| region.cuttable[f as usize]) {
                     continue;
                 }
                 let x = region.screen(v);
-                near.clear();
-                prepared_segments_near(x, x, &mut near);
-                for &si in near.iter() {
+                let (cx, cy) = cells[v as usize];
+                let near = match grid.clamp((cx, cy), (cx, cy)) {
+                    Some(_) => grid.segments_at(cx, cy),
+                    None => &[],
+                };
+                for &si in near {
                     if strips[si as usize].apart(x, x) {
                         continue;
                     }

@@ -279,21 +279,6 @@ fn plan<'a>(
     }
     let pieces: Vec<(u32, u32)> = bounds.windows(2).map(|w| (w[0], w[1])).collect();
 
-    // Segments near a box, each once, in cell order (deterministic; the occurrences are
-    // sorted afterwards). A box holds a few: a linear check beats sorting.
-    let near = |lo: DVec2, hi: DVec2, out: &mut Vec<u32>| {
-        if let Some((x0, y0, x1, y1)) = grid.range(lo, hi) {
-            for cy in y0..y1 + 1 {
-                for cx in x0..x1 + 1 {
-                    for &k in grid.segments_at(cx, cy) {
-                        if !out.contains(&k) {
-                            out.push(k);
-                        }
-                    }
-                }
-            }
-        }
-    };
     // The faces under piece ends and stroke points (for the report): the buckets, or
     // through all a table for just those points.
     let locate = match &buckets {
@@ -311,7 +296,7 @@ fn plan<'a>(
         &region,
         line,
         prep.closed,
-        &near,
+        &grid,
         &snapped.seg_range,
         &bounds,
         &locate,

@@ -88,11 +88,17 @@ impl Region {
                 (p, proj.see(p))
             })
             .unzip();
-        // Membership measured on screen, each vertex projected once.
+        // Membership measured on screen, each vertex projected once and placed in its grid
+        // cell once (a face's cell range is its corners' least and greatest).
+        let cells: Vec<(i32, i32)> = seen
+            .par_iter()
+            .with_min_len(1024)
+            .map(|s| s.map_or((0, 0), |s| grid.cell(s.screen)))
+            .collect();
         let near: Vec<Option<Near>> = tri
             .par_iter()
             .with_min_len(1024)
-            .map(|&t| face_near(t, &seen, grid, segments, margin))
+            .map(|&t| face_near(t, &seen, &cells, grid, segments, margin))
             .collect();
         let mut length = mean_edge_length(&tri, &near, &seen, &pos);
         for f in &mut length.degenerate_met {
@@ -328,6 +334,7 @@ impl Near {
 fn face_near(
     t: [u32; 3],
     seen: &[Option<Seen>],
+    cells: &[(i32, i32)],
     grid: &CellGrid,
     segments: &[(DVec2, DVec2)],
     margin: f64,
@@ -345,7 +352,11 @@ fn face_near(
     // of the half diagonal, far above 1e-9 of the margin). Each segment tested once: the last
     // few tested are remembered (a segment spans many cells of a small box). Segments whose
     // box is farther than `keep` are skipped: they cannot be the nearest within it.
-    let (x0, y0, x1, y1) = grid.range(lo, hi)?;
+    let c = t.map(|v| cells[v as usize]);
+    let (x0, y0, x1, y1) = grid.clamp(
+        (c[0].0.min(c[1].0).min(c[2].0), c[0].1.min(c[1].1).min(c[2].1)),
+        (c[0].0.max(c[1].0).max(c[2].0), c[0].1.max(c[1].1).max(c[2].1)),
+    )?;
     let (lo, hi) = (lo - pad, hi + pad);
     let mut gap2 = f64::INFINITY;
     let mut recent = [u32::MAX; 4];

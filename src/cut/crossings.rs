@@ -114,22 +114,23 @@ pub(crate) fn canon(line: &Polyline, closed: bool, j: u32) -> u32 {
 }
 
 /// All meetings of the stroke with elements of cuttable faces, sorted by key.
-/// `seg_range[si]` = the polyline segments inside prepared segment `si`; `locate` finds the
-/// faces of piece ends; `seen`, in visible-only mode, the visibility buckets and the region
+/// `seg_range[si]` = the polyline segments inside prepared segment `si`; `make_locate` makes
+/// what finds the faces of piece ends (beside the edge and vertex loops; it is returned with
+/// the occurrences); `seen`, in visible-only mode, the visibility buckets and the region
 /// before snapping.
 #[allow(clippy::too_many_arguments)]
-pub(crate) fn find_occurrences(
+pub(crate) fn find_occurrences<'b>(
     region: &Region,
     line: &Polyline,
     closed: bool,
     grid: &CellGrid,
     seg_range: &[(u32, u32)],
     piece_ends: &[u32],
-    locate: &Locator,
+    make_locate: impl FnOnce() -> Locator<'b> + Send,
     seen: Option<(&FaceBuckets, &Before)>,
     end_snap: f64,
     ends_moved: &mut Vec<u32>,
-) -> Vec<Occ> {
+) -> (Vec<Occ>, Locator<'b>) {
     let pts = &line.pts;
     let last = (pts.len() - 1) as u32;
     let mk = |key: (u32, f64), elem: Elem, screen: DVec2| Occ {
@@ -154,151 +155,157 @@ pub(crate) fn find_occurrences(
         .with_min_len(1024)
         .map(|s| s.map_or((0, 0), |s| grid.cell(s.screen)))
         .collect();
-    // Edges in fixed chunks on rayon, concatenated in edge order (thread-count independent).
-    let chunks: Vec<Vec<Occ>> = region
-        .edges
-        .par_chunks(256)
-        .enumerate()
-        .map(|(ci, chunk)| {
-            let mut occ: Vec<Occ> = Vec::new();
-            let mut near: Vec<u32> = Vec::new();
-            for (i, &[ia, ib]) in chunk.iter().enumerate() {
-                let e = ci * 256 + i;
-                let ef = region.edge_faces[e];
-                if !ef.iter().any(|&f| f != NONE && region.cuttable[f as usize]) {
-                    continue;
-                }
-                let (a, b) = (region.screen(ia), region.screen(ib));
-                let (ca, cb) = (cells[ia as usize], cells[ib as usize]);
-                let near = match grid.clamp(
-                    (ca.0.min(cb.0), ca.1.min(cb.1)),
-                    (ca.0.max(cb.0), ca.1.max(cb.1)),
-                ) {
-                    None => continue,
-                    // One cell: its segments, each once already.
-                    Some((x0, y0, x1, y1)) if x0 == x1 && y0 == y1 => grid.segments_at(x0, y0),
-                    Some(range) => {
-                        segments_in(grid, range, &mut near);
-                        &near[..]
-                    }
-                };
-                for &si in near {
-                    if strips[si as usize].apart(a, b) {
+    let (locate, (chunks, on_stroke)) = rayon::join(make_locate, || {
+        // Edges in fixed chunks on rayon, concatenated in edge order (thread-count independent).
+        let chunks: Vec<Vec<Occ>> = region
+            .edges
+            .par_chunks(256)
+            .enumerate()
+            .map(|(ci, chunk)| {
+                let mut occ: Vec<Occ> = Vec::new();
+                let mut near: Vec<u32> = Vec::new();
+                for (i, &[ia, ib]) in chunk.iter().enumerate() {
+                    let e = ci * 256 + i;
+                    let ef = region.edge_faces[e];
+                    if !ef.iter().any(|&f| f != NONE && region.cuttable[f as usize]) {
                         continue;
                     }
-                    for k in subs(si, a.min(b), a.max(b)) {
-                        let (p, q) = (pts[k as usize], pts[k as usize + 1]);
-                        // Boxes apart: nothing to meet (exact: comparisons only).
-                        if p.x.max(q.x) < a.x.min(b.x)
-                            || p.x.min(q.x) > a.x.max(b.x)
-                            || p.y.max(q.y) < a.y.min(b.y)
-                            || p.y.min(q.y) > a.y.max(b.y)
-                        {
+                    let (a, b) = (region.screen(ia), region.screen(ib));
+                    let (ca, cb) = (cells[ia as usize], cells[ib as usize]);
+                    let near = match grid.clamp(
+                        (ca.0.min(cb.0), ca.1.min(cb.1)),
+                        (ca.0.max(cb.0), ca.1.max(cb.1)),
+                    ) {
+                        None => continue,
+                        // One cell: its segments, each once already.
+                        Some((x0, y0, x1, y1)) if x0 == x1 && y0 == y1 => grid.segments_at(x0, y0),
+                        Some(range) => {
+                            segments_in(grid, range, &mut near);
+                            &near[..]
+                        }
+                    };
+                    for &si in near {
+                        if strips[si as usize].apart(a, b) {
                             continue;
                         }
-                        let (o1, o2) = (orient(p, q, a), orient(p, q, b));
-                        if o1 * o2 < 0.0 {
-                            let (o3, o4) = (orient(a, b, p), orient(a, b, q));
-                            let edge_t = o1 / (o1 - o2);
-                            let (key, on_point) = if o3 * o4 < 0.0 {
-                                ((k, o3 / (o3 - o4)), false)
-                            } else if o3 == 0.0 {
-                                ((k, 0.0), true)
-                            } else if o4 == 0.0 && k + 1 == last {
-                                ((k + 1, 0.0), true)
-                            } else {
+                        for k in subs(si, a.min(b), a.max(b)) {
+                            let (p, q) = (pts[k as usize], pts[k as usize + 1]);
+                            // Boxes apart: nothing to meet (exact: comparisons only).
+                            if p.x.max(q.x) < a.x.min(b.x)
+                                || p.x.min(q.x) > a.x.max(b.x)
+                                || p.y.max(q.y) < a.y.min(b.y)
+                                || p.y.min(q.y) > a.y.max(b.y)
+                            {
                                 continue;
-                            };
-                            let screen = if on_point {
-                                pts[key.0 as usize]
-                            } else {
-                                p + (q - p) * key.1
-                            };
-                            let at = if on_point {
-                                canon(line, closed, key.0)
-                            } else {
-                                k
-                            };
-                            let mut o = mk(
-                                key,
-                                Elem::E {
-                                    edge: e as u32,
-                                    at,
-                                    on_point,
-                                },
-                                screen,
-                            );
-                            o.edge_t = edge_t;
-                            occ.push(o);
-                        } else if o1 == 0.0 && o2 == 0.0 {
-                            // The segment runs along the edge's line: stroke points strictly inside
-                            // the edge are on it.
-                            let ab = b - a;
-                            for (j, x) in [(k, p), (k + 1, q)] {
-                                if (j == k || j == last) && x != a && x != b && on_segment(a, b, x)
-                                {
-                                    let mut o = mk(
-                                        (j, 0.0),
-                                        Elem::E {
-                                            edge: e as u32,
-                                            at: canon(line, closed, j),
-                                            on_point: true,
-                                        },
-                                        x,
-                                    );
-                                    o.edge_t = (x - a).dot(ab) / ab.length_squared();
-                                    occ.push(o);
+                            }
+                            let (o1, o2) = (orient(p, q, a), orient(p, q, b));
+                            if o1 * o2 < 0.0 {
+                                let (o3, o4) = (orient(a, b, p), orient(a, b, q));
+                                let edge_t = o1 / (o1 - o2);
+                                let (key, on_point) = if o3 * o4 < 0.0 {
+                                    ((k, o3 / (o3 - o4)), false)
+                                } else if o3 == 0.0 {
+                                    ((k, 0.0), true)
+                                } else if o4 == 0.0 && k + 1 == last {
+                                    ((k + 1, 0.0), true)
+                                } else {
+                                    continue;
+                                };
+                                let screen = if on_point {
+                                    pts[key.0 as usize]
+                                } else {
+                                    p + (q - p) * key.1
+                                };
+                                let at = if on_point {
+                                    canon(line, closed, key.0)
+                                } else {
+                                    k
+                                };
+                                let mut o = mk(
+                                    key,
+                                    Elem::E {
+                                        edge: e as u32,
+                                        at,
+                                        on_point,
+                                    },
+                                    screen,
+                                );
+                                o.edge_t = edge_t;
+                                occ.push(o);
+                            } else if o1 == 0.0 && o2 == 0.0 {
+                                // The segment runs along the edge's line: stroke points strictly inside
+                                // the edge are on it.
+                                let ab = b - a;
+                                for (j, x) in [(k, p), (k + 1, q)] {
+                                    if (j == k || j == last)
+                                        && x != a
+                                        && x != b
+                                        && on_segment(a, b, x)
+                                    {
+                                        let mut o = mk(
+                                            (j, 0.0),
+                                            Elem::E {
+                                                edge: e as u32,
+                                                at: canon(line, closed, j),
+                                                on_point: true,
+                                            },
+                                            x,
+                                        );
+                                        o.edge_t = (x - a).dot(ab) / ab.length_squared();
+                                        occ.push(o);
+                                    }
                                 }
                             }
                         }
                     }
                 }
-            }
-            occ
-        })
-        .collect();
-    // Vertices on the stroke, once per vertex of a cuttable face (the edge loop would find
-    // each from all its edges).
-    let nv = region.verts.len() as u32;
-    let on_stroke: Vec<Vec<Occ>> = (0..nv)
-        .into_par_iter()
-        .chunks(256)
-        .map(|chunk| {
-            let mut occ: Vec<Occ> = Vec::new();
-            for v in chunk {
-                let faces = region.vertex_faces(v);
-                if !faces.iter().any(|&f| region.cuttable[f as usize]) {
-                    continue;
-                }
-                let x = region.screen(v);
-                let (cx, cy) = cells[v as usize];
-                let near = match grid.clamp((cx, cy), (cx, cy)) {
-                    Some(_) => grid.segments_at(cx, cy),
-                    None => &[],
-                };
-                for &si in near {
-                    if strips[si as usize].apart(x, x) {
+                occ
+            })
+            .collect();
+        // Vertices on the stroke, once per vertex of a cuttable face (the edge loop would find
+        // each from all its edges).
+        let nv = region.verts.len() as u32;
+        let on_stroke: Vec<Vec<Occ>> = (0..nv)
+            .into_par_iter()
+            .chunks(256)
+            .map(|chunk| {
+                let mut occ: Vec<Occ> = Vec::new();
+                for v in chunk {
+                    let faces = region.vertex_faces(v);
+                    if !faces.iter().any(|&f| region.cuttable[f as usize]) {
                         continue;
                     }
-                    for k in subs(si, x, x) {
-                        let (p, q) = (pts[k as usize], pts[k as usize + 1]);
-                        if on_segment(p, q, x) && orient(p, q, x) == 0.0 {
-                            let key = if x == p {
-                                (k, 0.0)
-                            } else if x == q {
-                                (k + 1, 0.0)
-                            } else {
-                                let pq = q - p;
-                                (k, ((x - p).dot(pq) / pq.length_squared()).clamp(0.0, 1.0))
-                            };
-                            occ.push(mk(key, Elem::V(v), x));
+                    let x = region.screen(v);
+                    let (cx, cy) = cells[v as usize];
+                    let near = match grid.clamp((cx, cy), (cx, cy)) {
+                        Some(_) => grid.segments_at(cx, cy),
+                        None => &[],
+                    };
+                    for &si in near {
+                        if strips[si as usize].apart(x, x) {
+                            continue;
+                        }
+                        for k in subs(si, x, x) {
+                            let (p, q) = (pts[k as usize], pts[k as usize + 1]);
+                            if on_segment(p, q, x) && orient(p, q, x) == 0.0 {
+                                let key = if x == p {
+                                    (k, 0.0)
+                                } else if x == q {
+                                    (k + 1, 0.0)
+                                } else {
+                                    let pq = q - p;
+                                    (k, ((x - p).dot(pq) / pq.length_squared()).clamp(0.0, 1.0))
+                                };
+                                occ.push(mk(key, Elem::V(v), x));
+                            }
                         }
                     }
                 }
-            }
-            occ
-        })
-        .collect();
+                occ
+            })
+            .collect();
+        (chunks, on_stroke)
+    });
     let mut occ: Vec<Occ> = chunks.into_iter().chain(on_stroke).flatten().collect();
     // Piece ends strictly inside faces (seed 002 §3.4, Figs. 12-13).
     for &j in piece_ends {
@@ -378,7 +385,7 @@ pub(crate) fn find_occurrences(
         // In visible-only mode a piece end inside faces belongs to the nearest visible one.
         occ.retain(|o| !matches!(o.elem, Elem::P { .. }) || o.visible);
     }
-    occ
+    (occ, locate)
 }
 
 /// The line through a prepared segment. Every polyline point of the segment lies on it up

@@ -279,9 +279,10 @@ fn plan<'a>(
     }
     let pieces: Vec<(u32, u32)> = bounds.windows(2).map(|w| (w[0], w[1])).collect();
 
+    let mut ends_moved: Vec<u32> = Vec::new();
     // The faces under piece ends and stroke points (for the report): the buckets, or
     // through all a table for just those points.
-    let locate = match &buckets {
+    let make_locate = || match &buckets {
         Some(b) => locate::Locator::Buckets(b),
         None => locate::Locator::Points(locate::PointFaces::new(
             &region,
@@ -290,16 +291,14 @@ fn plan<'a>(
                 .map(|j| line.pts[j]),
         )),
     };
-    trace.mark("locate");
-    let mut ends_moved: Vec<u32> = Vec::new();
-    let occ = crossings::find_occurrences(
+    let (occ, locate) = crossings::find_occurrences(
         &region,
         line,
         prep.closed,
         &grid,
         &snapped.seg_range,
         &bounds,
-        &locate,
+        make_locate,
         buckets.as_ref().zip(before.as_ref()),
         options.snap_segment_ratio * l_px / 3.0,
         &mut ends_moved,

@@ -354,8 +354,14 @@ fn face_near(
     // box is farther than `keep` are skipped: they cannot be the nearest within it.
     let c = t.map(|v| cells[v as usize]);
     let (x0, y0, x1, y1) = grid.clamp(
-        (c[0].0.min(c[1].0).min(c[2].0), c[0].1.min(c[1].1).min(c[2].1)),
-        (c[0].0.max(c[1].0).max(c[2].0), c[0].1.max(c[1].1).max(c[2].1)),
+        (
+            c[0].0.min(c[1].0).min(c[2].0),
+            c[0].1.min(c[1].1).min(c[2].1),
+        ),
+        (
+            c[0].0.max(c[1].0).max(c[2].0),
+            c[0].1.max(c[1].1).max(c[2].1),
+        ),
     )?;
     let (lo, hi) = (lo - pad, hi + pad);
     let mut gap2 = f64::INFINITY;

@@ -419,7 +419,10 @@ impl<'r> Splitter<'r> {
             .for_each(|(subs, &lf)| {
                 let lf = lf as usize;
                 let sign = sp.r.sign[lf];
-                if sign == 0.0 || !sp.r.cuttable[lf] {
+                // Two pieces are a triangle cut from a corner to a point on the opposite side:
+                // their diagonal is a path chord, or flipping it would make that side a
+                // triangle with no area.
+                if sign == 0.0 || !sp.r.cuttable[lf] || subs.len() <= 2 {
                     return;
                 }
                 for _ in 0..3 {

@@ -7,7 +7,10 @@
 //! 10k, 100k and 1M triangles, and the shared `spot_quadrangulated.obj` subdivided 4 times and
 //! triangulated (1.5M triangles). Both modes; all cores (the machine has 2). A table of
 //! medians over interleaved rounds, and ratios, is printed at the end: warm (each call right
-//! after the same call) and cold (right after the caches were evicted).
+//! after the same call) and cold (right after the caches were evicted). `cut_edits` over the
+//! floor is given twice: as the ratio of the medians, and as the median of each round's ratio
+//! (floor and cut measured moments apart, so a drift of the machine's speed between rounds,
+//! ±25% here, cancels).
 
 use std::time::{Duration, Instant};
 
@@ -294,6 +297,18 @@ fn cut(c: &mut Criterion) {
                 }));
             }
         }
+        // Each round's edits over the same round's floor, measured moments apart: steadier
+        // than the ratio of medians while the machine's speed drifts between rounds.
+        let per_round = |k: usize| {
+            let mut r: Vec<f64> = warm[4 + 2 * k]
+                .iter()
+                .zip(&warm[0])
+                .map(|(e, f)| e.as_secs_f64() / f.as_secs_f64())
+                .collect();
+            r.sort_by(f64::total_cmp);
+            r[r.len() / 2]
+        };
+        let round_ratio: Vec<f64> = (0..modes.len()).map(per_round).collect();
         let m: Vec<Duration> = warm.into_iter().map(median).collect();
         let c: Vec<Duration> = cold.into_iter().map(median).collect();
         for (k, (mode, o)) in modes.iter().zip(&opts).enumerate() {
@@ -308,6 +323,7 @@ fn cut(c: &mut Criterion) {
                 edits: m[4 + 2 * k],
                 cold_floor: c[0],
                 cold_edits: c[1 + k],
+                edits_per_floor_by_round: round_ratio[k],
                 new_faces: out.report.new_faces,
                 paths: out.report.paths.len(),
             });
@@ -317,10 +333,11 @@ fn cut(c: &mut Criterion) {
     eprintln!(
         "(floor: one projection pass; floor4: the same with AVX2, as the cut's vertex pass is \
          written; clone: PolyMesh::clone, what any new output costs; warm: each call right after \
-         the same call; cold: right after evicting the caches)"
+         the same call; cold: right after evicting the caches; by round: the median of each \
+         round's edits over the same round's floor)"
     );
     eprintln!(
-        "{:<28} {:<12} {:>9} {:>9} {:>9} {:>9} {:>7} {:>8} {:>9} {:>7} {:>8} {:>10} {:>10} {:>6} {:>9} {:>6}",
+        "{:<28} {:<12} {:>9} {:>9} {:>9} {:>9} {:>7} {:>8} {:>9} {:>7} {:>9} {:>8} {:>10} {:>10} {:>6} {:>9} {:>6}",
         "mesh",
         "mode",
         "floor",
@@ -331,6 +348,7 @@ fn cut(c: &mut Criterion) {
         "/clone",
         "edits",
         "/floor",
+        "by round",
         "/floor4",
         "cold floor",
         "cold edits",
@@ -341,7 +359,7 @@ fn cut(c: &mut Criterion) {
     let ms = |d: Duration| d.as_secs_f64() * 1e3;
     for r in table {
         eprintln!(
-            "{:<28} {:<12} {:>7.2}ms {:>7.2}ms {:>7.2}ms {:>7.2}ms {:>6.1}x {:>7.1}x {:>7.2}ms {:>6.2}x {:>7.1}x {:>8.2}ms {:>8.2}ms {:>5.2}x {:>9} {:>6}",
+            "{:<28} {:<12} {:>7.2}ms {:>7.2}ms {:>7.2}ms {:>7.2}ms {:>6.1}x {:>7.1}x {:>7.2}ms {:>6.2}x {:>8.2}x {:>7.1}x {:>8.2}ms {:>8.2}ms {:>5.2}x {:>9} {:>6}",
             r.name,
             r.mode,
             ms(r.floor),
@@ -352,6 +370,7 @@ fn cut(c: &mut Criterion) {
             ms(r.cut) / ms(r.clone),
             ms(r.edits),
             ms(r.edits) / ms(r.floor),
+            r.edits_per_floor_by_round,
             ms(r.edits) / ms(r.floor4),
             ms(r.cold_floor),
             ms(r.cold_edits),
@@ -373,6 +392,8 @@ struct Row {
     edits: Duration,
     cold_floor: Duration,
     cold_edits: Duration,
+    /// The median over rounds of edits / floor within each round.
+    edits_per_floor_by_round: f64,
     new_faces: u32,
     paths: usize,
 }

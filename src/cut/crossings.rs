@@ -612,7 +612,9 @@ pub(crate) fn chains(
             }
         }
     }
-    links.sort_unstable();
+    // By first element; each one's links were made with ascending second elements, and the
+    // radix sort is stable, so this is the order of the pairs.
+    super::radix::sort_by_key(&mut links);
     links.dedup();
     let n = hi - lo;
     let mut out_deg = vec![0u32; n];

@@ -15,16 +15,15 @@
 use std::time::{Duration, Instant};
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
-use glam::{DMat4, DVec2, DVec3};
-use katachi::cut::{cut_by_stroke, cut_edits, CutMode, CutOptions, Stroke, View};
+use glam::DVec2;
+use katachi::cut::{cut_by_stroke, cut_edits, CutMode, CutOptions, View};
 use katachi::mesh::shapes;
-use katachi::subdivide::{catmull_clark, SubdivideOptions};
 use katachi::PolyMesh;
 use rayon::prelude::*;
 
 #[path = "../tests/cut_meshes/mod.rs"]
 mod cut_meshes;
-use cut_meshes::triangulate_quads;
+use cut_meshes::{bench_stroke, bench_view, project_all, spot_l4, triangulate_quads};
 
 fn meshes() -> Vec<(String, PolyMesh)> {
     let mut v: Vec<(String, PolyMesh)> = [(71u32, "10k"), (224, "100k"), (707, "1M")]
@@ -34,63 +33,11 @@ fn meshes() -> Vec<(String, PolyMesh)> {
             (format!("torus {name} ({} tris)", m.face_count()), m)
         })
         .collect();
-    let spot = concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../shared/data/models/spot_quadrangulated.obj"
-    );
-    match katachi::io::read(std::path::Path::new(spot)) {
-        Ok(m) => {
-            let sub = catmull_clark(&m, &SubdivideOptions::with_levels(4))
-                .unwrap()
-                .mesh;
-            let t = triangulate_quads(&sub);
-            v.push((format!("spot L4 ({} tris)", t.face_count()), t));
-        }
+    match spot_l4() {
+        Ok(t) => v.push((format!("spot L4 ({} tris)", t.face_count()), t)),
         Err(e) => eprintln!("spot not benchmarked: {e}"),
     }
     v
-}
-
-/// A perspective view of the whole mesh from above and aside, 1280 × 720.
-fn view_of(mesh: &PolyMesh) -> View {
-    let (lo, hi) = mesh.bounding_box().unwrap();
-    let c = (lo + hi) / 2.0;
-    let r = (hi - lo).length() / 2.0;
-    let eye = c + DVec3::new(0.3, -0.9, 1.2).normalize() * r * 2.2;
-    let vp = DMat4::perspective_rh_gl(45f64.to_radians(), 1280.0 / 720.0, 0.01 * r, 10.0 * r)
-        * DMat4::look_at_rh(eye, c, DVec3::Z);
-    View::new(vp, [0.0, 0.0, 1280.0, 720.0])
-}
-
-/// 50 points across the view, a gentle wave.
-fn stroke() -> Stroke {
-    Stroke::new(
-        (0..50)
-            .map(|i| {
-                let t = i as f64 / 49.0;
-                DVec2::new(200.0 + 880.0 * t, 360.0 + 60.0 * (t * 6.0).sin())
-            })
-            .collect(),
-    )
-}
-
-/// The floor: every vertex through the view-projection matrix and viewport, into `out`
-/// (kept between runs, so the floor is the pass alone: a fresh array's page faults cost
-/// from nothing to more than the pass, depending on the allocator's state).
-fn project_all(mesh: &PolyMesh, view: &View, out: &mut Vec<DVec2>) {
-    let (vp, v) = (view.view_proj, view.viewport);
-    mesh.positions()
-        .par_iter()
-        .with_min_len(1 << 14)
-        .map(|&p| {
-            let c = vp * p.extend(1.0);
-            let inv = 1.0 / c.w;
-            DVec2::new(
-                v[0] + (c.x * inv + 1.0) * 0.5 * v[2],
-                v[1] + (1.0 - c.y * inv) * 0.5 * v[3],
-            )
-        })
-        .collect_into_vec(out);
 }
 
 /// The floor written the way the cut's vertex pass is: four vertices at a time with AVX2 (on
@@ -203,11 +150,11 @@ fn median(mut t: Vec<Duration>) -> Duration {
 }
 
 fn cut(c: &mut Criterion) {
-    let s = stroke();
+    let s = bench_stroke();
     let mut table = Vec::new();
     let mut evict = Evictor::new();
     for (name, mesh) in meshes() {
-        let view = view_of(&mesh);
+        let view = bench_view(&mesh);
         let mut g = c.benchmark_group(format!("cut {name}"));
         g.sample_size(10);
         g.warm_up_time(Duration::from_millis(300));

@@ -14,31 +14,22 @@
 //! `RAYON_NUM_THREADS=1` it counts the instructions of a cut, which, unlike times, do not
 //! depend on what else the machine does.
 
-use std::path::Path;
 use std::time::Instant;
 
-use glam::{DMat4, DVec2, DVec3};
-use katachi::cut::{cut_edits, CutMode, CutOptions, Stroke, View};
+use glam::DVec2;
+use katachi::cut::{cut_edits, CutMode, CutOptions};
 use katachi::mesh::shapes;
-use katachi::subdivide::{catmull_clark, SubdivideOptions};
 
 #[path = "../tests/cut_meshes/mod.rs"]
 mod cut_meshes;
-use cut_meshes::triangulate_quads;
+use cut_meshes::{bench_stroke, bench_view, project_all, spot_l4, triangulate_quads};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let arg = |i: usize, default: &str| args.get(i).cloned().unwrap_or(default.to_string());
     let mesh = match arg(0, "torus").as_str() {
         "torus" => triangulate_quads(&shapes::torus(707, 707, 2.0, 0.7)),
-        "spot" => {
-            let path = concat!(
-                env!("CARGO_MANIFEST_DIR"),
-                "/../shared/data/models/spot_quadrangulated.obj"
-            );
-            let m = katachi::io::read(Path::new(path))?;
-            triangulate_quads(&catmull_clark(&m, &SubdivideOptions::with_levels(4))?.mesh)
-        }
+        "spot" => spot_l4()?,
         other => return Err(format!("unknown mesh {other:?} (torus or spot)").into()),
     };
     let mode = match arg(1, "visible").as_str() {
@@ -51,20 +42,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         return Err("at least one call".into());
     }
 
-    let (lo, hi) = mesh.bounding_box().ok_or("an empty mesh")?;
-    let (c, r) = ((lo + hi) / 2.0, (hi - lo).length() / 2.0);
-    let eye = c + DVec3::new(0.3, -0.9, 1.2).normalize() * r * 2.2;
-    let vp = DMat4::perspective_rh_gl(45f64.to_radians(), 1280.0 / 720.0, 0.01 * r, 10.0 * r)
-        * DMat4::look_at_rh(eye, c, DVec3::Z);
-    let view = View::new(vp, [0.0, 0.0, 1280.0, 720.0]);
-    let stroke = Stroke::new(
-        (0..50)
-            .map(|i| {
-                let t = i as f64 / 49.0;
-                DVec2::new(200.0 + 880.0 * t, 360.0 + 60.0 * (t * 6.0).sin())
-            })
-            .collect(),
-    );
+    let (view, stroke) = (bench_view(&mesh), bench_stroke());
     let options = CutOptions::with_mode(mode);
 
     // Each cut right after one floor pass (the bench's: every vertex through the matrix and
@@ -102,23 +80,4 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         ratio[calls / 2],
     );
     Ok(())
-}
-
-/// The bench's floor (`benches/cut.rs`): every vertex through the view-projection matrix and
-/// viewport, into `out`.
-fn project_all(mesh: &katachi::PolyMesh, view: &View, out: &mut Vec<DVec2>) {
-    use rayon::prelude::*;
-    let (vp, v) = (view.view_proj, view.viewport);
-    mesh.positions()
-        .par_iter()
-        .with_min_len(1 << 14)
-        .map(|&p| {
-            let c = vp * p.extend(1.0);
-            let inv = 1.0 / c.w;
-            DVec2::new(
-                v[0] + (c.x * inv + 1.0) * 0.5 * v[2],
-                v[1] + (1.0 - c.y * inv) * 0.5 * v[3],
-            )
-        })
-        .collect_into_vec(out);
 }

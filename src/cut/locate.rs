@@ -97,19 +97,7 @@ impl PointFaces {
             }
         }
         // By point, faces ascending within each (pushed in face order).
-        let mut start = vec![0u32; pts.len() + 1];
-        for &(k, _) in &pairs {
-            start[k as usize + 1] += 1;
-        }
-        for k in 0..pts.len() {
-            start[k + 1] += start[k];
-        }
-        let mut fill = start.clone();
-        let mut list = vec![0u32; pairs.len()];
-        for &(k, lf) in &pairs {
-            list[fill[k as usize] as usize] = lf;
-            fill[k as usize] += 1;
-        }
+        let (start, list) = super::radix::group_by_key(pts.len(), &pairs);
         PointFaces { pts, start, list }
     }
 

@@ -73,25 +73,13 @@ fn fig9(region: &Region, occ: &[Occ], a: &mut Vec<u32>) -> bool {
     // Each face's positions in A, ascending (a counting sort by face: the faces are the
     // region's, a few thousand).
     let nf = region.tri.len();
-    let mut start = vec![0u32; nf + 1];
     let mut scratch = Vec::new();
     let mut entries: Vec<(u32, u32)> = Vec::new();
     for (k, &o) in a.iter().enumerate() {
         elem_faces(region, occ[o as usize].elem, &mut scratch);
-        for &f in &scratch {
-            start[f as usize + 1] += 1;
-            entries.push((f, k as u32));
-        }
+        entries.extend(scratch.iter().map(|&f| (f, k as u32)));
     }
-    for f in 0..nf {
-        start[f + 1] += start[f];
-    }
-    let mut fill = start.clone();
-    let mut at = vec![0u32; entries.len()];
-    for &(f, k) in &entries {
-        at[fill[f as usize] as usize] = k;
-        fill[f as usize] += 1;
-    }
+    let (start, at) = super::radix::group_by_key(nf, &entries);
     let mut alive = vec![true; n];
     let mut next: Vec<usize> = (1..=n).collect();
     let mut removed_any = false;

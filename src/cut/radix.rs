@@ -73,6 +73,26 @@ pub(crate) fn sort_by_key(pairs: &mut Vec<(u32, u32)>) {
     }
 }
 
+/// `(key, value)` pairs grouped by key with a counting sort, for keys below `keys`: CSR
+/// `(start, values)`, key `k`'s values being `values[start[k]..start[k + 1]]` in the pairs'
+/// order.
+pub(crate) fn group_by_key(keys: usize, pairs: &[(u32, u32)]) -> (Vec<u32>, Vec<u32>) {
+    let mut start = vec![0u32; keys + 1];
+    for &(k, _) in pairs {
+        start[k as usize + 1] += 1;
+    }
+    for k in 0..keys {
+        start[k + 1] += start[k];
+    }
+    let mut fill = start.clone();
+    let mut values = vec![0u32; pairs.len()];
+    for &(k, v) in pairs {
+        values[fill[k as usize] as usize] = v;
+        fill[k as usize] += 1;
+    }
+    (start, values)
+}
+
 /// A key whose unsigned order is `f32::total_cmp`'s.
 #[inline]
 pub(crate) fn f32_key(x: f32) -> u32 {
@@ -86,7 +106,22 @@ pub(crate) fn f32_key(x: f32) -> u32 {
 
 #[cfg(test)]
 mod tests {
-    use super::sort_by_key;
+    use super::{group_by_key, sort_by_key};
+
+    /// Each key's values in the pairs' order, as a stable sort by key lays them out.
+    #[test]
+    fn group_by_key_is_a_stable_grouping() {
+        let pairs: Vec<(u32, u32)> = (0..500u32).map(|i| ((i * 37) % 11, i)).collect();
+        let (start, values) = group_by_key(13, &pairs);
+        let mut sorted = pairs.clone();
+        sorted.sort_by_key(|p| p.0);
+        assert_eq!(values, sorted.iter().map(|p| p.1).collect::<Vec<_>>());
+        for k in 0..13u32 {
+            let want = pairs.iter().filter(|p| p.0 == k).count() as u32;
+            assert_eq!(start[k as usize + 1] - start[k as usize], want, "key {k}");
+        }
+        assert_eq!(start[13], 500);
+    }
 
     /// Stable and sorted, as `sort_by_key` of std: small and large inputs, nearly sorted,
     /// reversed, few distinct keys, keys using all 32 bits, lengths not divisible by four.

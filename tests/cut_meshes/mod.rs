@@ -1,13 +1,16 @@
 //! Meshes for the stroke cut's tests, benchmark and tuning examples (`tests/cut.rs`,
 //! `benches/cut.rs`, `examples/cut_*.rs` include this file): triangulated grids, flat and
-//! perturbed, icospheres, quads split into triangles, and cameras around a mesh.
+//! perturbed, icospheres, quads split into triangles, cameras around a mesh, and the
+//! benchmark's spot, view, stroke and floor.
 #![allow(dead_code)] // each includer uses some
 
 use std::collections::BTreeMap;
 
-use glam::{DMat4, DVec3};
-use katachi::cut::View;
+use glam::{DMat4, DVec2, DVec3};
+use katachi::cut::{Stroke, View};
+use katachi::subdivide::{catmull_clark, SubdivideOptions};
 use katachi::PolyMesh;
+use rayon::prelude::*;
 
 /// An m × n grid of unit squares in z = 0, each split into two triangles (normal +z).
 pub fn tri_grid(m: u32, n: u32) -> PolyMesh {
@@ -156,4 +159,58 @@ pub fn view_for(mesh: &PolyMesh, ortho: bool, theta: f64, phi: f64, dist: f64) -
         DMat4::perspective_rh_gl(50f64.to_radians(), 800.0 / 600.0, 0.01, 100.0 * r)
     };
     View::new(proj * look, [0.0, 0.0, 800.0, 600.0])
+}
+
+/// The benchmark's spot: the shared `spot_quadrangulated.obj` subdivided 4 times and
+/// triangulated (1.5M triangles).
+pub fn spot_l4() -> Result<PolyMesh, String> {
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../shared/data/models/spot_quadrangulated.obj"
+    );
+    let m = katachi::io::read(std::path::Path::new(path)).map_err(|e| e.to_string())?;
+    let sub = catmull_clark(&m, &SubdivideOptions::with_levels(4)).map_err(|e| e.to_string())?;
+    Ok(triangulate_quads(&sub.mesh))
+}
+
+/// The benchmark's view: the whole mesh in perspective from above and aside, 1280 × 720.
+pub fn bench_view(mesh: &PolyMesh) -> View {
+    let (lo, hi) = mesh.bounding_box().unwrap();
+    let c = (lo + hi) / 2.0;
+    let r = (hi - lo).length() / 2.0;
+    let eye = c + DVec3::new(0.3, -0.9, 1.2).normalize() * r * 2.2;
+    let vp = DMat4::perspective_rh_gl(45f64.to_radians(), 1280.0 / 720.0, 0.01 * r, 10.0 * r)
+        * DMat4::look_at_rh(eye, c, DVec3::Z);
+    View::new(vp, [0.0, 0.0, 1280.0, 720.0])
+}
+
+/// The benchmark's stroke: 50 points across the view, a gentle wave.
+pub fn bench_stroke() -> Stroke {
+    Stroke::new(
+        (0..50)
+            .map(|i| {
+                let t = i as f64 / 49.0;
+                DVec2::new(200.0 + 880.0 * t, 360.0 + 60.0 * (t * 6.0).sin())
+            })
+            .collect(),
+    )
+}
+
+/// The benchmark's floor: every vertex through the view-projection matrix and viewport, into
+/// `out` (kept between runs, so the floor is the pass alone: a fresh array's page faults cost
+/// from nothing to more than the pass, depending on the allocator's state).
+pub fn project_all(mesh: &PolyMesh, view: &View, out: &mut Vec<DVec2>) {
+    let (vp, v) = (view.view_proj, view.viewport);
+    mesh.positions()
+        .par_iter()
+        .with_min_len(1 << 14)
+        .map(|&p| {
+            let c = vp * p.extend(1.0);
+            let inv = 1.0 / c.w;
+            DVec2::new(
+                v[0] + (c.x * inv + 1.0) * 0.5 * v[2],
+                v[1] + (1.0 - c.y * inv) * 0.5 * v[3],
+            )
+        })
+        .collect_into_vec(out);
 }

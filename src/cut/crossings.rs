@@ -82,7 +82,7 @@ fn sort_occurrences(occ: &mut Vec<Occ>) {
     for run in by_index.chunk_by(|a, b| a.0 == b.0) {
         keys.clear();
         keys.extend(run.iter().map(|&(_, i)| key(i as usize, &occ[i as usize])));
-        keys.sort_unstable();
+        super::radix::small_sort(&mut keys);
         order.extend(keys.iter().map(|k| k.6));
     }
     *occ = order.iter().map(|&i| occ[i as usize]).collect();
@@ -556,7 +556,9 @@ pub(crate) fn elem_faces(region: &Region, e: Elem, out: &mut Vec<u32>) {
                     .copied()
                     .filter(|&f| f != NONE && region.cuttable[f as usize]),
             );
-            out.sort_unstable();
+            if out.len() == 2 && out[0] > out[1] {
+                out.swap(0, 1);
+            }
         }
         Elem::P { face, .. } => out.push(face),
     }

@@ -99,6 +99,8 @@ use crossings::{Elem, Occ};
 use region::{Region, NONE};
 use visibility::Before;
 
+use std::sync::atomic::{AtomicBool, Ordering};
+
 /// Cuts `mesh` along `stroke` drawn over `view` (seed 002; spec §4). Never changes `mesh`.
 ///
 /// N-gons are triangulated first (faces with holes split by their bridges first), and
@@ -140,8 +142,37 @@ pub fn cut_edits(
 /// dozen parallel steps then start from inside the pool: called from outside, each would
 /// hand its work over to the pool and put the caller to sleep until it is done, a round
 /// trip through the scheduler that costs more than a small step itself.
+///
+/// Beside the cut, one more worker is kept awake ([`keep_warm`]) until it is done.
 fn on_pool<R: Send>(f: impl FnOnce() -> R + Send) -> R {
-    rayon::scope(|_| f())
+    let done = AtomicBool::new(false);
+    rayon::scope(|s| {
+        if rayon::current_num_threads() > 1 {
+            let caller = rayon::current_thread_index();
+            let done = &done;
+            s.spawn(move |_| keep_warm(caller, done));
+        }
+        let r = f();
+        done.store(true, Ordering::Release);
+        r
+    })
+}
+
+/// Runs the pool's pending jobs until `done`. Between its parallel steps the cut works on one
+/// thread for tens of microseconds; an idle rayon worker falls asleep after a few, and waking
+/// it (a futex call by the cut's thread, then a reschedule) cost each following step more
+/// than its share of the work (seventeen context switches a cut). This worker stays awake
+/// and takes each step's jobs at once. Never on the cut's own thread: there it would keep
+/// that thread from returning to the cut.
+fn keep_warm(caller: Option<usize>, done: &AtomicBool) {
+    if rayon::current_thread_index() == caller {
+        return;
+    }
+    while !done.load(Ordering::Acquire) {
+        if rayon::yield_now() != Some(rayon::Yield::Executed) {
+            std::hint::spin_loop();
+        }
+    }
 }
 
 /// The cut's steps (seed 002 §3.4's list, spec §4), up to the edits.
@@ -177,6 +208,7 @@ fn plan<'a>(
         let codes = candidates::vertex_codes(tm.positions(), &proj, &grid);
         trace.mark("codes");
         let (kept, clipped) = candidates::candidate_faces(tm.corners(), &codes, &grid);
+        trace.count("candidates", kept.faces.len());
         trace.mark("candidates");
         let built = Region::build(tm, &kept, &grid, &segs, margin, max_ratio, &proj, options)?;
         trace.mark("region");
@@ -191,6 +223,8 @@ fn plan<'a>(
         }
     };
     let (l_px, l_world) = (length.px, length.world);
+    trace.count("faces", region.faces.len());
+    trace.count("verts", region.verts.len());
     let visible_only = options.mode == CutMode::VisibleOnly;
 
     // Which vertices may move: every face around them known, in front of the eye, and in
@@ -306,6 +340,7 @@ fn plan<'a>(
     ends_moved.sort_unstable();
     ends_moved.dedup();
     trace.mark("occurrences");
+    trace.count("occ", occ.len());
 
     // Chains, normalization, split vertices.
     let mut sp = split::Splitter::new(&region, l_px);

@@ -11,6 +11,26 @@
 const MAX_BITS: u32 = 11;
 const WAYS: usize = 4;
 
+/// Sorts a few entries in place by insertion (a vertex's edges, an element's faces: the
+/// library sort's call and set-up cost more than the sorting); `sort_unstable` beyond 16.
+/// Unstable: for entries whose equal ones are indistinguishable.
+#[inline]
+pub(crate) fn small_sort<T: Ord + Copy>(v: &mut [T]) {
+    if v.len() > 16 {
+        v.sort_unstable();
+        return;
+    }
+    for i in 1..v.len() {
+        let x = v[i];
+        let mut j = i;
+        while j > 0 && v[j - 1] > x {
+            v[j] = v[j - 1];
+            j -= 1;
+        }
+        v[j] = x;
+    }
+}
+
 /// Sorts `pairs` by `.0`, keeping the order of equal keys.
 pub(crate) fn sort_by_key(pairs: &mut Vec<(u32, u32)>) {
     let n = pairs.len();

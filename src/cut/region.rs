@@ -365,15 +365,16 @@ fn face_near(
     )?;
     let (lo, hi) = (lo - pad, hi + pad);
     let mut gap2 = f64::INFINITY;
-    let mut recent = [u32::MAX; 4];
+    // A ring of the last four (a slice rotation per segment was a library call).
+    let (mut recent, mut slot) = ([u32::MAX; 4], 0usize);
     for cy in y0..y1 + 1 {
         for cx in x0..x1 + 1 {
             for &k in grid.segments_at(cx, cy) {
                 if recent.contains(&k) {
                     continue;
                 }
-                recent.rotate_right(1);
-                recent[0] = k;
+                recent[slot & 3] = k;
+                slot += 1;
                 let (p, q) = segments[k as usize];
                 if p.max(q).cmplt(lo).any() || p.min(q).cmpgt(hi).any() {
                     continue;
@@ -545,7 +546,7 @@ fn edge_table(
         }
     }
     for k in 0..nv {
-        he[he_start[k] as usize..he_start[k + 1] as usize].sort_unstable();
+        super::radix::small_sort(&mut he[he_start[k] as usize..he_start[k + 1] as usize]);
     }
     let mut face_edges = vec![[NONE; 3]; tri.len()];
     let mut edges = Vec::new();

@@ -122,12 +122,11 @@ impl Region {
             pos,
         } = keep_near(&candidates.faces, tri, verts, seen, pos, &near);
         let (sign, cuttable) = face_signs(&tri, &seen, &pos, mode);
-        // The visibility buckets (the longest) beside the edge table and the per-vertex
-        // data. The buckets' boxes are grown by the snap distance.
-        let complete_vf = || {
+        // The visibility buckets (the longest) beside the adjacency and the per-vertex data.
+        // The buckets' boxes are grown by the snap distance.
+        let complete = || -> Vec<bool> {
             // Within reach of the stroke: every face around is kept.
-            let complete: Vec<bool> = seen
-                .iter()
+            seen.iter()
                 .map(|s| {
                     let Some(s) = s else { return false };
                     grid.range(s.screen, s.screen)
@@ -138,18 +137,27 @@ impl Region {
                             })
                         })
                 })
-                .collect();
-            (complete, vertex_faces_csr(&tri, verts.len()))
+                .collect()
         };
-        let (buckets, (edge_table, (complete, (vf_start, vf_list)))) = rayon::join(
+        let (buckets, (edge_table, complete)) = rayon::join(
             || {
                 // Only visible-only mode asks what hides a point (through all, the few
                 // points a cut locates get their own table: `locate`).
                 (mode == CutMode::VisibleOnly)
                     .then(|| FaceBuckets::new(&tri, &sign, &seen, &pos, grid, depth_eps_rel, reach))
             },
-            || rayon::join(|| edge_table(&tri, &verts), complete_vf),
+            || {
+                rayon::join(
+                    || {
+                        let (vf_start, vf_list) = vertex_faces_csr(&tri, verts.len());
+                        let table = edge_table(&tri, &verts, &vf_start, &vf_list);
+                        (table, vf_start, vf_list)
+                    },
+                    complete,
+                )
+            },
         );
+        let (edge_table, vf_start, vf_list) = edge_table;
         let (face_edges, edges, edge_faces) = edge_table?;
         let region = Region {
             faces,
@@ -472,8 +480,19 @@ pub(crate) fn lift_with(
 fn local_ids(corners: &[[u32; 3]], nv: usize) -> (Vec<u32>, Vec<[u32; 3]>) {
     let mut tri = corners.to_vec();
     let mut bits = vec![0u64; nv.div_ceil(64)];
-    for &v in tri.as_flattened() {
-        bits[(v >> 6) as usize] |= 1 << (v & 63);
+    // Four quarters of the corners interleaved: consecutive corners mostly mark one word,
+    // and each read-modify-write of it waited for the last (a tenth of the region's build).
+    let flat = tri.as_flattened();
+    let q = flat.len() / 4;
+    let mut mark = |v: u32| bits[(v >> 6) as usize] |= 1 << (v & 63);
+    for i in 0..q {
+        mark(flat[i]);
+        mark(flat[q + i]);
+        mark(flat[2 * q + i]);
+        mark(flat[3 * q + i]);
+    }
+    for &v in &flat[4 * q..] {
+        mark(v);
     }
     let mut below = Vec::with_capacity(bits.len());
     let mut verts = Vec::new();
@@ -514,79 +533,73 @@ unsafe fn rank_popcnt(ids: &mut [u32], bits: &[u64], below: &[u32]) {
 
 /// The local edges of `tri`: each face's edge per corner, each edge's ends (ascending) and
 /// its one or two faces; a non-manifold or inconsistently oriented edge is an error naming
-/// its global vertices (`verts`).
+/// its global vertices (`verts`). Edges are numbered in order of (smaller end, larger end),
+/// found vertex by vertex from the faces around each (`vf_start`, `vf_list`): each corner's
+/// edge is listed at its smaller end, the few there sorted in place (a counting sort of all
+/// corner edges by their smaller end scattered them through a table three times larger).
 #[allow(clippy::type_complexity)]
 fn edge_table(
     tri: &[[u32; 3]],
     verts: &[u32],
+    vf_start: &[u32],
+    vf_list: &[u32],
 ) -> Result<(Vec<[u32; 3]>, Vec<[u32; 2]>, Vec<[u32; 2]>)> {
-    // Edges: the directed corner edges ordered by (min, max, corner): a counting sort on
-    // the smaller end, then each vertex's few entries sorted in place.
-    let nv = verts.len();
-    let mut he_start = vec![0u32; nv + 1];
-    for t in tri {
-        for i in 0..3 {
-            he_start[t[i].min(t[(i + 1) % 3]) as usize + 1] += 1;
-        }
-    }
-    for k in 0..nv {
-        he_start[k + 1] += he_start[k];
-    }
-    let mut fill = he_start.clone();
-    let mut he: Vec<(u64, u32)> = vec![(0, 0); 3 * tri.len()];
-    for (lf, t) in tri.iter().enumerate() {
-        for i in 0..3 {
-            let (a, b) = (t[i], t[(i + 1) % 3]);
-            let slot = &mut fill[a.min(b) as usize];
-            he[*slot as usize] = (
-                (a.min(b) as u64) << 32 | a.max(b) as u64,
-                3 * lf as u32 + i as u32,
-            );
-            *slot += 1;
-        }
-    }
-    for k in 0..nv {
-        super::radix::small_sort(&mut he[he_start[k] as usize..he_start[k + 1] as usize]);
-    }
     let mut face_edges = vec![[NONE; 3]; tri.len()];
-    let mut edges = Vec::new();
-    let mut edge_faces = Vec::new();
-    let mut i = 0;
-    while i < he.len() {
-        let mut j = i + 1;
-        while j < he.len() && he[j].0 == he[i].0 {
-            j += 1;
-        }
-        let (a, b) = ((he[i].0 >> 32) as u32, he[i].0 as u32);
-        let (ga, gb) = (verts[a as usize], verts[b as usize]);
-        if j - i > 2 {
-            return Err(Error::NonManifoldEdge {
-                a: ga,
-                b: gb,
-                uses: (j - i) as u32,
-            });
-        }
-        let corner = |k: usize| ((he[k].1 / 3) as usize, (he[k].1 % 3) as usize);
-        if j - i == 2 {
-            let from = |k: usize| {
-                let (f, c) = corner(k);
-                tri[f][c]
-            };
-            if from(i) == from(i + 1) {
-                let (fa, fb) = if from(i) == a { (ga, gb) } else { (gb, ga) };
-                return Err(Error::InconsistentOrientation { a: fa, b: fb });
+    let mut edges = Vec::with_capacity(tri.len() * 3 / 2 + 16);
+    let mut edge_faces = Vec::with_capacity(tri.len() * 3 / 2 + 16);
+    // (larger end, corner 3·face + i) of the corner edges at the current vertex.
+    let mut at: Vec<(u32, u32)> = Vec::with_capacity(32);
+    for a in 0..verts.len() as u32 {
+        at.clear();
+        for &f in &vf_list[vf_start[a as usize] as usize..vf_start[a as usize + 1] as usize] {
+            let t = tri[f as usize];
+            let c = (0..3).find(|&c| t[c] == a).expect("a face around a vertex has it");
+            let (next, prev) = (t[(c + 1) % 3], t[(c + 2) % 3]);
+            if next > a {
+                at.push((next, 3 * f + c as u32));
+            }
+            if prev > a {
+                at.push((prev, 3 * f + ((c + 2) % 3) as u32));
             }
         }
-        let e = edges.len() as u32;
-        edges.push([a, b]);
-        let mut ef = [NONE; 2];
-        for k in i..j {
-            let (f, c) = corner(k);
-            face_edges[f][c] = e;
-            ef[k - i] = f as u32;
+        super::radix::small_sort(&mut at);
+        let mut i = 0;
+        while i < at.len() {
+            let b = at[i].0;
+            let mut j = i + 1;
+            while j < at.len() && at[j].0 == b {
+                j += 1;
+            }
+            let (ga, gb) = (verts[a as usize], verts[b as usize]);
+            if j - i > 2 {
+                return Err(Error::NonManifoldEdge {
+                    a: ga,
+                    b: gb,
+                    uses: (j - i) as u32,
+                });
+            }
+            let corner = |k: usize| ((at[k].1 / 3) as usize, (at[k].1 % 3) as usize);
+            if j - i == 2 {
+                let from = |k: usize| {
+                    let (f, c) = corner(k);
+                    tri[f][c]
+                };
+                if from(i) == from(i + 1) {
+                    let (fa, fb) = if from(i) == a { (ga, gb) } else { (gb, ga) };
+                    return Err(Error::InconsistentOrientation { a: fa, b: fb });
+                }
+            }
+            let e = edges.len() as u32;
+            edges.push([a, b]);
+            let mut ef = [NONE; 2];
+            for k in i..j {
+                let (f, c) = corner(k);
+                face_edges[f][c] = e;
+                ef[k - i] = f as u32;
+            }
+            edge_faces.push(ef);
+            i = j;
         }
-        edge_faces.push(ef);
-        i = j;
     }
     Ok((face_edges, edges, edge_faces))
 }

@@ -229,57 +229,44 @@ fn plan<'a>(
 
     // Which vertices may move: every face around them known, in front of the eye, and in
     // visible-only mode front-facing all round and not hidden (tested only for vertices
-    // within reach of the stroke).
+    // within reach of the stroke). One parallel pass.
+    let near_stroke = |s: DVec2| {
+        grid.range(s, s).is_some_and(|(cx, cy, _, _)| {
+            grid.segments_at(cx, cy).iter().any(|&k| {
+                candidates::point_segment_distance(s, segs[k as usize].0, segs[k as usize].1)
+                    < reach
+            })
+        })
+    };
     let allowed: Vec<bool> = (0..region.verts.len() as u32)
+        .into_par_iter()
+        .with_min_len(256)
         .map(|v| {
             let faces = region.vertex_faces(v);
-            region.seen[v as usize].is_some()
-                && region.complete[v as usize]
+            let Some(seen) = region.seen[v as usize] else {
+                return false;
+            };
+            let movable = region.complete[v as usize]
                 && faces.iter().all(|&f| region.projectable(f))
                 && faces.iter().any(|&f| region.cuttable[f as usize])
-                && (!visible_only || faces.iter().all(|&f| region.cuttable[f as usize]))
+                && (!visible_only || faces.iter().all(|&f| region.cuttable[f as usize]));
+            match &buckets {
+                // Visible-only: and seen before snapping.
+                Some(buckets) if movable => {
+                    !near_stroke(seen.screen)
+                        || !buckets.hidden(
+                            &region,
+                            seen.screen,
+                            seen.z,
+                            region.pos[v as usize],
+                            None,
+                            faces,
+                        )
+                }
+                _ => movable,
+            }
         })
         .collect();
-    let seen_before: Vec<bool> = if let Some(buckets) = &buckets {
-        let near_stroke = |s: DVec2| {
-            grid.range(s, s).is_some_and(|(cx, cy, _, _)| {
-                grid.segments_at(cx, cy).iter().any(|&k| {
-                    candidates::point_segment_distance(s, segs[k as usize].0, segs[k as usize].1)
-                        < reach
-                })
-            })
-        };
-        (0..region.verts.len())
-            .into_par_iter()
-            .with_min_len(256)
-            .map(|v| {
-                if !allowed[v] {
-                    return false;
-                }
-                let seen = region.seen[v].expect("allowed vertices are projectable");
-                !near_stroke(seen.screen)
-                    || !buckets.hidden(
-                        &region,
-                        seen.screen,
-                        seen.z,
-                        region.pos[v],
-                        None,
-                        region.vertex_faces(v as u32),
-                    )
-            })
-            .collect()
-    } else {
-        Vec::new()
-    };
-    let allowed: Vec<bool> = if visible_only {
-        allowed
-            .iter()
-            .zip(&seen_before)
-            .map(|(&a, &s)| a && s)
-            .collect()
-    } else {
-        allowed
-    };
     trace.mark("allowed");
     let mut before = visible_only.then(|| Before::new(&region));
     let snapped = snap::snap(

@@ -553,7 +553,9 @@ fn edge_table(
         at.clear();
         for &f in &vf_list[vf_start[a as usize] as usize..vf_start[a as usize + 1] as usize] {
             let t = tri[f as usize];
-            let c = (0..3).find(|&c| t[c] == a).expect("a face around a vertex has it");
+            let c = (0..3)
+                .find(|&c| t[c] == a)
+                .expect("a face around a vertex has it");
             let (next, prev) = (t[(c + 1) % 3], t[(c + 2) % 3]);
             if next > a {
                 at.push((next, 3 * f + c as u32));

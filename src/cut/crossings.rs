@@ -626,6 +626,14 @@ pub(crate) fn chains(
         in_deg[y as usize - lo] += 1;
     }
     let through = |x: u32| in_deg[x as usize - lo] == 1 && out_deg[x as usize - lo] == 1;
+    // The first link of each element (links are sorted by it).
+    let mut first = vec![0u32; n + 1];
+    for &(x, _) in &links {
+        first[x as usize - lo + 1] += 1;
+    }
+    for k in 0..n {
+        first[k + 1] += first[k];
+    }
     let mut used = vec![false; links.len()];
     let mut result = Vec::new();
     for start in 0..links.len() {
@@ -641,7 +649,7 @@ pub(crate) fn chains(
             if !through(y) {
                 break;
             }
-            l = links.partition_point(|&(a, _)| a < y);
+            l = first[y as usize - lo] as usize;
             if used[l] {
                 break;
             }

@@ -67,7 +67,11 @@ pub(crate) struct Splitter<'r> {
     /// Vertices on each split local edge, by screen parameter from its first to its second
     /// end.
     on_edge: Pool<SmallVec<[(f64, u32); 2]>>,
-    /// The vertex of each E or P element already placed.
+    /// The vertex of each E element already placed, by edge: (stroke index, on a stroke
+    /// point, vertex); an edge has one or two (a hashed map of elements cost a tenth of the
+    /// normalization).
+    placed_e: Pool<SmallVec<[(u32, bool, u32); 1]>>,
+    /// The vertex of each P element already placed (a piece end inside a face: few).
     placed: FxHashMap<Elem, u32>,
     /// Screen distance under which a constructed point is an existing vertex (1e-9·L).
     eps_px: f64,
@@ -82,6 +86,7 @@ impl<'r> Splitter<'r> {
             pieces: Pool::new(r.tri.len()),
             touched: Vec::new(),
             on_edge: Pool::new(r.edges.len()),
+            placed_e: Pool::new(r.edges.len()),
             placed: FxHashMap::default(),
             eps_px: 1e-9 * l_px.max(1.0),
         }
@@ -169,7 +174,14 @@ impl<'r> Splitter<'r> {
         if let Elem::V(v) = o.elem {
             return v;
         }
-        if let Some(&m) = self.placed.get(&o.elem) {
+        let known = match o.elem {
+            Elem::E { edge, at, on_point } => self
+                .placed_e
+                .get(edge)
+                .and_then(|l| l.iter().find(|x| (x.0, x.1) == (at, on_point)).map(|x| x.2)),
+            _ => self.placed.get(&o.elem).copied(),
+        };
+        if let Some(m) = known {
             return m;
         }
         // Spec §4 step 5: the 3D point is the perspective-correct interpolation.
@@ -213,7 +225,16 @@ impl<'r> Splitter<'r> {
             }
             Elem::V(_) => unreachable!("handled above"),
         };
-        self.placed.insert(o.elem, m);
+        match o.elem {
+            Elem::E { edge, at, on_point } => self
+                .placed_e
+                .get_or_insert(edge, SmallVec::new)
+                .0
+                .push((at, on_point, m)),
+            _ => {
+                self.placed.insert(o.elem, m);
+            }
+        }
         m
     }
 

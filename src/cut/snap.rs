@@ -4,6 +4,7 @@
 //! so later predicates see it on the stroke without tolerance.
 
 use glam::{DVec2, DVec3};
+use rayon::prelude::*;
 
 use super::candidates::CellGrid;
 use super::geom::orient;
@@ -64,29 +65,36 @@ pub(crate) fn snap(
         }
     };
 
-    // Step 2: to stroke vertices; each stroke vertex takes its nearest model vertex.
-    let mut pairs: Vec<(f64, u32, u32)> = Vec::new();
-    if rv > 0.0 {
-        for v in 0..region.verts.len() as u32 {
-            if !allowed[v as usize] {
-                continue;
-            }
-            let s = region.screen(v);
-            let mut best: Option<(f64, u32)> = None;
-            for &si in near(s) {
-                for k in [si as usize, (si as usize + 1) % n] {
-                    let d = (prep.points[k] - s).length();
-                    if d < rv && best.map_or(true, |(bd, bk)| (d, k as u32) < (bd, bk)) {
-                        best = Some((d, k as u32));
+    // Step 2: to stroke vertices; each stroke vertex takes its nearest model vertex. The
+    // nearest of each vertex found on rayon (in vertex order), then taken nearest first.
+    let mut pairs: Vec<(f64, u32, u32)> = if rv > 0.0 {
+        let region = &*region;
+        (0..region.verts.len() as u32)
+            .into_par_iter()
+            .with_min_len(512)
+            .filter_map(|v| {
+                if !allowed[v as usize] {
+                    return None;
+                }
+                let s = region.screen(v);
+                let mut best: Option<(f64, u32)> = None;
+                for &si in near(s) {
+                    for k in [si as usize, (si as usize + 1) % n] {
+                        let d = (prep.points[k] - s).length();
+                        if d < rv && best.map_or(true, |(bd, bk)| (d, k as u32) < (bd, bk)) {
+                            best = Some((d, k as u32));
+                        }
                     }
                 }
-            }
-            if let Some((d, k)) = best {
-                pairs.push((d, v, k));
-            }
-        }
-    }
-    pairs.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+                best.map(|(d, k)| (d, v, k))
+            })
+            .collect()
+    } else {
+        Vec::new()
+    };
+    // By distance, then vertex (distances are lengths: neither negative nor NaN, so their
+    // bits sort as they do).
+    pairs.sort_unstable_by_key(|p| (p.0.to_bits(), p.1));
     for &(_, v, k) in &pairs {
         if taken[k as usize] || snapped[v as usize] {
             continue;
@@ -102,36 +110,42 @@ pub(crate) fn snap(
     }
 
     // Step 3: onto stroke segments; each snap inserts a stroke point at the foot.
-    let mut feet: Vec<(f64, u32, u32, f64, DVec2)> = Vec::new(); // (dist, v, seg, t, q)
-    if rs > 0.0 {
-        for v in 0..region.verts.len() as u32 {
-            if !allowed[v as usize] || snapped[v as usize] {
-                continue;
-            }
-            let s = region.screen(v);
-            let mut best: Option<(f64, u32, f64, DVec2)> = None;
-            for &si in near(s) {
-                let (a, b) = segments[si as usize];
-                let ab = b - a;
-                let t = ((s - a).dot(ab) / ab.length_squared()).clamp(0.0, 1.0);
-                let q = if t == 0.0 {
-                    a
-                } else if t == 1.0 {
-                    b
-                } else {
-                    a + ab * t
-                };
-                let d = (q - s).length();
-                if d < rs && best.map_or(true, |(bd, bs, ..)| (d, si) < (bd, bs)) {
-                    best = Some((d, si, t, q));
+    // (dist, v, seg, t, q), found on rayon as in step 2.
+    let mut feet: Vec<(f64, u32, u32, f64, DVec2)> = if rs > 0.0 {
+        let region = &*region;
+        let snapped = &snapped;
+        (0..region.verts.len() as u32)
+            .into_par_iter()
+            .with_min_len(512)
+            .filter_map(|v| {
+                if !allowed[v as usize] || snapped[v as usize] {
+                    return None;
                 }
-            }
-            if let Some((d, si, t, q)) = best {
-                feet.push((d, v, si, t, q));
-            }
-        }
-    }
-    feet.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+                let s = region.screen(v);
+                let mut best: Option<(f64, u32, f64, DVec2)> = None;
+                for &si in near(s) {
+                    let (a, b) = segments[si as usize];
+                    let ab = b - a;
+                    let t = ((s - a).dot(ab) / ab.length_squared()).clamp(0.0, 1.0);
+                    let q = if t == 0.0 {
+                        a
+                    } else if t == 1.0 {
+                        b
+                    } else {
+                        a + ab * t
+                    };
+                    let d = (q - s).length();
+                    if d < rs && best.map_or(true, |(bd, bs, ..)| (d, si) < (bd, bs)) {
+                        best = Some((d, si, t, q));
+                    }
+                }
+                best.map(|(d, si, t, q)| (d, v, si, t, q))
+            })
+            .collect()
+    } else {
+        Vec::new()
+    };
+    feet.sort_unstable_by_key(|f| (f.0.to_bits(), f.1));
     let mut inserted: Vec<(u32, f64, DVec2)> = Vec::new();
     for &(_, v, si, t, q) in &feet {
         if guard(region, v, q, min_area2) {

@@ -143,8 +143,15 @@ pub fn cut_edits(
 /// hand its work over to the pool and put the caller to sleep until it is done, a round
 /// trip through the scheduler that costs more than a small step itself.
 ///
-/// Beside the cut, one more worker is kept awake ([`keep_warm`]) until it is done.
+/// Beside the cut, one more worker is kept awake ([`keep_warm`]) until it is done (or
+/// panics: the flag is set on unwinding too).
 fn on_pool<R: Send>(f: impl FnOnce() -> R + Send) -> R {
+    struct SetOnDrop<'a>(&'a AtomicBool);
+    impl Drop for SetOnDrop<'_> {
+        fn drop(&mut self) {
+            self.0.store(true, Ordering::Release);
+        }
+    }
     let done = AtomicBool::new(false);
     rayon::scope(|s| {
         if rayon::current_num_threads() > 1 {
@@ -152,9 +159,8 @@ fn on_pool<R: Send>(f: impl FnOnce() -> R + Send) -> R {
             let done = &done;
             s.spawn(move |_| keep_warm(caller, done));
         }
-        let r = f();
-        done.store(true, Ordering::Release);
-        r
+        let _done = SetOnDrop(&done);
+        f()
     })
 }
 
@@ -163,13 +169,20 @@ fn on_pool<R: Send>(f: impl FnOnce() -> R + Send) -> R {
 /// it (a futex call by the cut's thread, then a reschedule) cost each following step more
 /// than its share of the work (seventeen context switches a cut). This worker stays awake
 /// and takes each step's jobs at once. Never on the cut's own thread: there it would keep
-/// that thread from returning to the cut.
+/// that thread from returning to the cut. It also gives up after a millisecond without a
+/// job (longer than the cut's longest serial step): a worker that runs it while its own job
+/// waits for another cut on the same pool must not wait for that cut to end.
 fn keep_warm(caller: Option<usize>, done: &AtomicBool) {
     if rayon::current_thread_index() == caller {
         return;
     }
+    let mut last_job = std::time::Instant::now();
     while !done.load(Ordering::Acquire) {
-        if rayon::yield_now() != Some(rayon::Yield::Executed) {
+        if rayon::yield_now() == Some(rayon::Yield::Executed) {
+            last_job = std::time::Instant::now();
+        } else if last_job.elapsed() > std::time::Duration::from_millis(1) {
+            return;
+        } else {
             std::hint::spin_loop();
         }
     }
@@ -708,4 +721,28 @@ fn dropped_points(
         v.sort_unstable();
     }
     d
+}
+
+#[cfg(test)]
+mod tests {
+    use super::on_pool;
+
+    /// A panic inside the cut reaches the caller (the C ABI catches it) instead of leaving
+    /// the kept-awake worker spinning and the pool's scope waiting for it forever; the pool
+    /// still works afterwards.
+    #[test]
+    fn a_panic_inside_the_pool_ends_the_kept_worker() {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(2)
+            .build()
+            .unwrap();
+        for _ in 0..20 {
+            let r = pool.install(|| {
+                std::panic::catch_unwind(|| on_pool(|| -> u32 { panic!("inside the cut") }))
+            });
+            assert!(r.is_err());
+            let (a, b) = pool.install(|| on_pool(|| rayon::join(|| 1u64, || 2u64)));
+            assert_eq!(a + b, 3);
+        }
+    }
 }

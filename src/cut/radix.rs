@@ -126,7 +126,31 @@ pub(crate) fn f32_key(x: f32) -> u32 {
 
 #[cfg(test)]
 mod tests {
-    use super::{group_by_key, sort_by_key};
+    use super::{group_by_key, small_sort, sort_by_key};
+
+    /// The same order as `sort_unstable`, on both sides of the insertion sort's limit, with
+    /// repeated keys.
+    #[test]
+    fn small_sort_sorts() {
+        let mut seed = 0x2545_f491_4f6c_dd1du64;
+        let mut rnd = move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            seed
+        };
+        for n in [0usize, 1, 2, 3, 7, 16, 17, 40] {
+            for _ in 0..50 {
+                let mut v: Vec<(u32, u32)> = (0..n)
+                    .map(|_| ((rnd() % 5) as u32, (rnd() % 3) as u32))
+                    .collect();
+                let mut want = v.clone();
+                want.sort_unstable();
+                small_sort(&mut v);
+                assert_eq!(v, want, "n = {n}");
+            }
+        }
+    }
 
     /// Each key's values in the pairs' order, as a stable sort by key lays them out.
     #[test]

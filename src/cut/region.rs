@@ -110,17 +110,15 @@ impl Region {
         }
         // Down to the snap distance: the faces the stroke meets stay, the others only if
         // they come within reach.
-        let near: Vec<Option<bool>> = near
-            .iter()
-            .map(|n| n.filter(|n| n.within(reach)).map(|n| n == Near::Met))
-            .collect();
         let NearFaces {
             faces,
             tri,
             verts,
             seen,
             pos,
-        } = keep_near(&candidates.faces, tri, verts, seen, pos, &near);
+        } = keep_near(&candidates.faces, tri, verts, seen, pos, |f| {
+            near[f].is_some_and(|n| n.within(reach))
+        });
         let (sign, cuttable) = face_signs(&tri, &seen, &pos, mode);
         // The visibility buckets (the longest) beside the adjacency and the per-vertex data.
         // The buckets' boxes are grown by the snap distance.
@@ -407,30 +405,32 @@ struct NearFaces {
     pos: Vec<DVec3>,
 }
 
-/// [`NearFaces`] of `candidates` (`near[i]` is `Some(_)` for a kept one).
+/// [`NearFaces`] of the `candidates` that `keep` accepts (by index).
 fn keep_near(
     candidates: &[u32],
     tri: Vec<[u32; 3]>,
     verts: Vec<u32>,
     seen: Vec<Option<Seen>>,
     pos: Vec<DVec3>,
-    near: &[Option<bool>],
+    keep: impl Fn(usize) -> bool,
 ) -> NearFaces {
     let mut new_id = vec![NONE; verts.len()];
-    let kept_faces = near.iter().filter(|n| n.is_some()).count();
-    let (mut faces, mut kept) = (
-        Vec::with_capacity(kept_faces),
-        Vec::with_capacity(kept_faces),
+    let kept: Vec<u32> = (0..candidates.len() as u32)
+        .filter(|&i| keep(i as usize))
+        .collect();
+    let (mut faces, mut kept_tri) = (
+        Vec::with_capacity(kept.len()),
+        Vec::with_capacity(kept.len()),
     );
-    for ((&f, t), n) in candidates.iter().zip(&tri).zip(near) {
-        if n.is_some() {
-            faces.push(f);
-            kept.push(*t);
-            for &v in t {
-                new_id[v as usize] = 0;
-            }
+    for &i in &kept {
+        let t = tri[i as usize];
+        faces.push(candidates[i as usize]);
+        kept_tri.push(t);
+        for v in t {
+            new_id[v as usize] = 0;
         }
     }
+    let mut kept = kept_tri;
     let kept_verts = new_id.iter().filter(|&&id| id == 0).count();
     let (mut verts2, mut seen2, mut pos2) = (
         Vec::with_capacity(kept_verts),

@@ -306,7 +306,12 @@ pub(crate) fn find_occurrences<'b>(
             .collect();
         (chunks, on_stroke)
     });
-    let mut occ: Vec<Occ> = chunks.into_iter().chain(on_stroke).flatten().collect();
+    // Copied slice by slice (an iterator over the chunks copied element by element).
+    let total = chunks.iter().chain(&on_stroke).map(Vec::len).sum::<usize>();
+    let mut occ: Vec<Occ> = Vec::with_capacity(total + piece_ends.len());
+    for c in chunks.iter().chain(&on_stroke) {
+        occ.extend_from_slice(c);
+    }
     // Piece ends strictly inside faces (seed 002 §3.4, Figs. 12-13).
     for &j in piece_ends {
         let s = pts[j as usize];

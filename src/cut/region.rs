@@ -302,7 +302,7 @@ fn mean_edge_length(
 /// A face degenerate on screen (corners `a`, `b`, `c`) or in space (corners `p`).
 #[inline]
 fn is_degenerate(a: DVec2, b: DVec2, c: DVec2, p: [DVec3; 3]) -> bool {
-    orient(a, b, c) == 0.0 || (p[1] - p[0]).cross(p[2] - p[0]).length() == 0.0
+    orient(a, b, c) == 0.0 || (p[1] - p[0]).cross(p[2] - p[0]).length_squared() == 0.0
 }
 
 /// How near a face is to the stroke on screen ([`face_near`]).

@@ -79,12 +79,24 @@ impl Region {
         let (verts, tri) = local_ids(&candidates.corners, mesh.vertex_count() as usize);
         // Each position read once from the mesh (its vertices are scattered through it:
         // reading them again per edge or face missed the caches), on rayon with the
-        // projection so the misses overlap.
-        let (pos, seen): (Vec<DVec3>, Vec<Option<Seen>>) = verts
-            .par_iter()
+        // projection so the misses overlap, and prefetched a few vertices ahead (on a mesh
+        // whose vertex order is not spatial, a subdivided one, nearly every read misses).
+        let ps = mesh.positions();
+        let (pos, seen): (Vec<DVec3>, Vec<Option<Seen>>) = (0..verts.len())
+            .into_par_iter()
             .with_min_len(1024)
-            .map(|&g| {
-                let p = mesh.positions()[g as usize];
+            .map(|i| {
+                #[cfg(target_arch = "x86_64")]
+                if let Some(&ahead) = verts.get(i + 24) {
+                    // SAFETY: the address of an element of `ps` (corners name vertices);
+                    // a prefetch reads nothing.
+                    unsafe {
+                        std::arch::x86_64::_mm_prefetch::<{ std::arch::x86_64::_MM_HINT_T0 }>(
+                            ps.as_ptr().add(ahead as usize).cast(),
+                        )
+                    };
+                }
+                let p = ps[verts[i] as usize];
                 (p, proj.see(p))
             })
             .unzip();

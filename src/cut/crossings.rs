@@ -43,8 +43,6 @@ pub(crate) struct Occ {
     pub screen: DVec2,
     /// E: screen parameter along `edges[edge]` from its first to its second vertex.
     pub edge_t: f64,
-    /// P: screen barycentrics in the face.
-    pub bary: [f64; 3],
     pub visible: bool,
 }
 
@@ -138,7 +136,6 @@ pub(crate) fn find_occurrences<'b>(
         elem,
         screen,
         edge_t: 0.0,
-        bary: [0.0; 3],
         visible: true,
     };
     let tpar = along(pts, seg_range);
@@ -339,16 +336,14 @@ pub(crate) fn find_occurrences<'b>(
                     ends_moved.push(j);
                     continue;
                 }
-                let mut o = mk(
+                occ.push(mk(
                     (j, 0.0),
                     Elem::P {
                         point: canon(line, closed, j),
                         face: lf,
                     },
                     s,
-                );
-                o.bary = super::geom::barycentric(a, b, c, s);
-                occ.push(o);
+                ));
             }
         }
     }
@@ -539,7 +534,11 @@ pub(crate) fn elem_depth(region: &Region, o: &Occ) -> (f64, DVec3) {
                 region.pos[a as usize].lerp(region.pos[b as usize], t),
             )
         }
-        Elem::P { face, .. } => region.lift(face, o.bary),
+        // Screen barycentrics recomputed (few P; carrying them made every crossing larger).
+        Elem::P { face, .. } => {
+            let [a, b, c] = region.face_screen(face);
+            region.lift(face, super::geom::barycentric(a, b, c, o.screen))
+        }
     }
 }
 

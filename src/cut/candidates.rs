@@ -267,6 +267,26 @@ impl CellGrid {
         false
     }
 
+    /// Segments listed in the cell of point `s` (none off the grid): every segment within
+    /// the margin of `s` is among them.
+    #[inline]
+    pub fn segments_near(&self, s: DVec2) -> &[u32] {
+        match self.range(s, s) {
+            Some((cx, cy, _, _)) => self.segments_at(cx, cy),
+            None => &[],
+        }
+    }
+
+    /// The distance from `s` to the nearest of `segments` its cell lists (infinite when it
+    /// lists none): exact whenever that is within the margin.
+    #[inline]
+    pub fn distance_to(&self, s: DVec2, segments: &[(DVec2, DVec2)]) -> f64 {
+        self.segments_near(s)
+            .iter()
+            .map(|&k| point_segment_distance(s, segments[k as usize].0, segments[k as usize].1))
+            .fold(f64::INFINITY, f64::min)
+    }
+
     /// Segments near cell (cx, cy).
     #[inline]
     pub fn segments_at(&self, cx: i32, cy: i32) -> &[u32] {

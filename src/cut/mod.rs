@@ -243,14 +243,6 @@ fn plan<'a>(
     // Which vertices may move: every face around them known, in front of the eye, and in
     // visible-only mode front-facing all round and not hidden (tested only for vertices
     // within reach of the stroke). One parallel pass.
-    let near_stroke = |s: DVec2| {
-        grid.range(s, s).is_some_and(|(cx, cy, _, _)| {
-            grid.segments_at(cx, cy).iter().any(|&k| {
-                candidates::point_segment_distance(s, segs[k as usize].0, segs[k as usize].1)
-                    < reach
-            })
-        })
-    };
     let allowed: Vec<bool> = (0..region.verts.len() as u32)
         .into_par_iter()
         .with_min_len(256)
@@ -266,7 +258,7 @@ fn plan<'a>(
             match &buckets {
                 // Visible-only: and seen before snapping.
                 Some(buckets) if movable => {
-                    !near_stroke(seen.screen)
+                    grid.distance_to(seen.screen, &segs) >= reach
                         || !buckets.hidden(
                             &region,
                             seen.screen,

@@ -128,17 +128,21 @@ pub(crate) fn f32_key(x: f32) -> u32 {
 mod tests {
     use super::{group_by_key, small_sort, sort_by_key};
 
-    /// The same order as `sort_unstable`, on both sides of the insertion sort's limit, with
-    /// repeated keys.
-    #[test]
-    fn small_sort_sorts() {
-        let mut seed = 0x2545_f491_4f6c_dd1du64;
-        let mut rnd = move || {
+    /// A deterministic xorshift64 stream from `seed` (non-zero).
+    fn xorshift(mut seed: u64) -> impl FnMut() -> u64 {
+        move || {
             seed ^= seed << 13;
             seed ^= seed >> 7;
             seed ^= seed << 17;
             seed
-        };
+        }
+    }
+
+    /// The same order as `sort_unstable`, on both sides of the insertion sort's limit, with
+    /// repeated keys.
+    #[test]
+    fn small_sort_sorts() {
+        let mut rnd = xorshift(0x2545_f491_4f6c_dd1d);
         for n in [0usize, 1, 2, 3, 7, 16, 17, 40] {
             for _ in 0..50 {
                 let mut v: Vec<(u32, u32)> = (0..n)
@@ -171,13 +175,7 @@ mod tests {
     /// reversed, few distinct keys, keys using all 32 bits, lengths not divisible by four.
     #[test]
     fn radix_sort_is_a_stable_sort() {
-        let mut seed = 0x9e37_79b9_7f4a_7c15u64;
-        let mut rnd = move || {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            seed
-        };
+        let mut rnd = xorshift(0x9e37_79b9_7f4a_7c15);
         for n in [0usize, 1, 5, 255, 256, 257, 1000, 4099, 30_001] {
             let inputs: [Vec<u32>; 4] = [
                 (0..n)

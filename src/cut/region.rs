@@ -11,7 +11,7 @@
 use glam::{DVec2, DVec3};
 use rayon::prelude::*;
 
-use super::candidates::{point_segment_distance, segment_triangle_gap2, CellGrid, Kept};
+use super::candidates::{segment_triangle_gap2, CellGrid, Kept};
 use super::geom::orient;
 use super::options::{CutMode, CutOptions};
 use super::view::{Projector, Seen};
@@ -137,16 +137,7 @@ impl Region {
         let complete = || -> Vec<bool> {
             // Within reach of the stroke: every face around is kept.
             seen.iter()
-                .map(|s| {
-                    let Some(s) = s else { return false };
-                    grid.range(s.screen, s.screen)
-                        .is_some_and(|(cx, cy, _, _)| {
-                            grid.segments_at(cx, cy).iter().any(|&k| {
-                                let (a, b) = segments[k as usize];
-                                point_segment_distance(s.screen, a, b) <= reach
-                            })
-                        })
-                })
+                .map(|s| s.is_some_and(|s| grid.distance_to(s.screen, segments) <= reach))
                 .collect()
         };
         let (buckets, (edge_table, complete)) = rayon::join(

@@ -58,12 +58,7 @@ pub(crate) fn snap(
     let mut refused_any = vec![false; region.verts.len()];
 
     // Nearby segments of a screen point, from its grid cell (the margin covers max(rv, rs)).
-    let near = |s: DVec2| -> &[u32] {
-        match grid.range(s, s) {
-            Some((cx, cy, _, _)) => grid.segments_at(cx, cy),
-            None => &[],
-        }
-    };
+    let near = |s: DVec2| grid.segments_near(s);
 
     // Step 2: to stroke vertices; each stroke vertex takes its nearest model vertex. The
     // nearest of each vertex found on rayon (in vertex order), then taken nearest first.

@@ -1,7 +1,7 @@
 //! Stroke cut (seed 002, issue 5): the cut's time against the floor, one projection pass over
 //! all vertices (view-projection, divide, viewport into a screen array kept between runs), and
 //! against a clone of the mesh (the cost of any function returning a new mesh), in one run;
-//! the floor also written with AVX2 as the cut's vertex pass is ("floor4"); and `cut_edits`,
+//! the floor also written with AVX-512 or AVX2 as the cut's vertex pass is ("floor4"); and `cut_edits`,
 //! the same cut returned as edits (no new mesh built).
 //! Goal: ≤ 3 × the floor on 1M triangles with a 50-point stroke. Meshes: triangulated tori of
 //! 10k, 100k and 1M triangles, and the shared `spot_quadrangulated.obj` subdivided 4 times and
@@ -40,20 +40,29 @@ fn meshes() -> Vec<(String, PolyMesh)> {
     v
 }
 
-/// The floor written the way the cut's vertex pass is: four vertices at a time with AVX2 (on
-/// CPUs without it, the plain floor), so the cut is also measured against a projection pass
-/// as hand-tuned as its own.
+/// The floor written the way the cut's vertex pass is: eight vertices at a time with AVX-512,
+/// or four with AVX2 (on CPUs without them, the plain floor), so the cut is also measured
+/// against a projection pass as hand-tuned as its own.
 fn project_all_avx2(mesh: &PolyMesh, view: &View, out: &mut Vec<DVec2>) {
     #[cfg(target_arch = "x86_64")]
     if std::arch::is_x86_feature_detected!("avx2") {
+        let wide = std::arch::is_x86_feature_detected!("avx512f");
         let ps = mesh.positions();
         out.clear();
         out.reserve(ps.len());
         out.spare_capacity_mut()[..ps.len()]
             .par_chunks_mut(1 << 14)
             .zip(ps.par_chunks(1 << 14))
-            // SAFETY: AVX2 checked; the chunks have equal lengths.
-            .for_each(|(o, p)| unsafe { avx2::project(view, p, o) });
+            // SAFETY: AVX2 (and AVX-512 F for the wide path) checked; the chunks have equal
+            // lengths.
+            .for_each(|(o, p)| unsafe {
+                if wide {
+                    let done = avx2::project8(view, p, o);
+                    avx2::project(view, &p[done..], &mut o[done..]);
+                } else {
+                    avx2::project(view, p, o);
+                }
+            });
         // SAFETY: every element was written.
         unsafe { out.set_len(ps.len()) };
         return;
@@ -68,6 +77,76 @@ mod avx2 {
 
     use glam::{DVec2, DVec3, DVec4};
     use katachi::cut::View;
+
+    /// [`project`] eight at a time with AVX-512 F on the first `8·(len / 8)` points; returns
+    /// how many it did.
+    #[target_feature(enable = "avx512f,avx2")]
+    pub unsafe fn project8(view: &View, ps: &[DVec3], out: &mut [MaybeUninit<DVec2>]) -> usize {
+        let (vp, v) = (view.view_proj, view.viewport);
+        let b = |x: f64| _mm512_set1_pd(x);
+        let row = |r: DVec4| (b(r.x), b(r.y), b(r.z), b(r.w));
+        let (rx, ry, rw) = (row(vp.row(0)), row(vp.row(1)), row(vp.row(3)));
+        let (one, half) = (b(1.0), b(0.5));
+        let (x0, y0, sw, sh) = (b(v[0]), b(v[1]), b(v[2]), b(v[3]));
+        let pick = |a: [i64; 8]| _mm512_setr_epi64(a[0], a[1], a[2], a[3], a[4], a[5], a[6], a[7]);
+        let (ax, ay, az) = (
+            pick([0, 3, 6, 9, 12, 15, 0, 0]),
+            pick([1, 4, 7, 10, 13, 0, 0, 0]),
+            pick([2, 5, 8, 11, 14, 0, 0, 0]),
+        );
+        let (bx, by, bz) = (
+            pick([0, 1, 2, 3, 4, 5, 10, 13]),
+            pick([0, 1, 2, 3, 4, 8, 11, 14]),
+            pick([0, 1, 2, 3, 4, 9, 12, 15]),
+        );
+        // Screen x and y interleaved: lanes 0..8 from sx, 8..16 from sy.
+        let (lo, hi) = (
+            pick([0, 8, 1, 9, 2, 10, 3, 11]),
+            pick([4, 12, 5, 13, 6, 14, 7, 15]),
+        );
+        let n8 = ps.len() / 8;
+        let src = ps.as_ptr() as *const f64;
+        let dst = out.as_mut_ptr() as *mut f64;
+        for i in 0..n8 {
+            let p = src.add(24 * i);
+            let (v0, v1, v2) = (
+                _mm512_loadu_pd(p),
+                _mm512_loadu_pd(p.add(8)),
+                _mm512_loadu_pd(p.add(16)),
+            );
+            let x = _mm512_permutex2var_pd(_mm512_permutex2var_pd(v0, ax, v1), bx, v2);
+            let y = _mm512_permutex2var_pd(_mm512_permutex2var_pd(v0, ay, v1), by, v2);
+            let z = _mm512_permutex2var_pd(_mm512_permutex2var_pd(v0, az, v1), bz, v2);
+            let dot = |r: (__m512d, __m512d, __m512d, __m512d)| {
+                _mm512_add_pd(
+                    _mm512_add_pd(
+                        _mm512_add_pd(_mm512_mul_pd(r.0, x), _mm512_mul_pd(r.1, y)),
+                        _mm512_mul_pd(r.2, z),
+                    ),
+                    r.3,
+                )
+            };
+            let inv = _mm512_div_pd(one, dot(rw));
+            let sx = _mm512_add_pd(
+                x0,
+                _mm512_mul_pd(
+                    _mm512_mul_pd(_mm512_add_pd(_mm512_mul_pd(dot(rx), inv), one), half),
+                    sw,
+                ),
+            );
+            let sy = _mm512_add_pd(
+                y0,
+                _mm512_mul_pd(
+                    _mm512_mul_pd(_mm512_sub_pd(one, _mm512_mul_pd(dot(ry), inv)), half),
+                    sh,
+                ),
+            );
+            let q = dst.add(16 * i);
+            _mm512_storeu_pd(q, _mm512_permutex2var_pd(sx, lo, sy));
+            _mm512_storeu_pd(q.add(8), _mm512_permutex2var_pd(sx, hi, sy));
+        }
+        8 * n8
+    }
 
     /// `out[i]` = screen position of `ps[i]`, as `project_all` computes it.
     #[target_feature(enable = "avx2")]
@@ -163,7 +242,7 @@ fn cut(c: &mut Criterion) {
             let mut out = Vec::new();
             b.iter(|| project_all(&mesh, &view, &mut out))
         });
-        g.bench_function("floor, AVX2: project all vertices", |b| {
+        g.bench_function("floor, SIMD: project all vertices", |b| {
             let mut out = Vec::new();
             b.iter(|| project_all_avx2(&mesh, &view, &mut out))
         });
@@ -194,7 +273,7 @@ fn cut(c: &mut Criterion) {
             .fold(0.0, f64::max);
         assert!(
             worst < 1e-6,
-            "the AVX2 floor projects elsewhere ({worst} px)"
+            "the SIMD floor projects elsewhere ({worst} px)"
         );
         let modes = [CutMode::VisibleOnly, CutMode::ThroughAll];
         let opts = modes.map(CutOptions::with_mode);
@@ -278,7 +357,7 @@ fn cut(c: &mut Criterion) {
     }
     eprintln!("\nstroke cut, 50-point stroke, medians of {ROUNDS} interleaved rounds (all cores):");
     eprintln!(
-        "(floor: one projection pass; floor4: the same with AVX2, as the cut's vertex pass is \
+        "(floor: one projection pass; floor4: the same with AVX-512 or AVX2, as the cut's vertex pass is \
          written; clone: PolyMesh::clone, what any new output costs; warm: each call right after \
          the same call; cold: right after evicting the caches; by round: the median of each \
          round's edits over the same round's floor)"

@@ -169,7 +169,7 @@ fn status_values_and_names_are_stable() {
 
 #[test]
 fn null_pointers_are_named() {
-    let mut out = 1usize as *mut KatachiMesh; // not NULL: must be reset
+    let mut out = std::ptr::dangling_mut::<KatachiMesh>(); // not NULL: must be reset
     let s = unsafe {
         katachi_mesh_create(
             null(),
@@ -427,7 +427,7 @@ fn read_and_write_map_errors() {
     let dir = std::env::temp_dir().join(format!("katachi-ffi-rw-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let m = cube();
-    let mut out = 1usize as *mut KatachiMesh;
+    let mut out = std::ptr::dangling_mut::<KatachiMesh>();
     let missing = CString::new(dir.join("missing.off").to_str().unwrap()).unwrap();
     assert_eq!(
         unsafe { katachi_mesh_read(missing.as_ptr(), &mut out) },
@@ -643,7 +643,7 @@ impl Drop for Cut {
 }
 
 fn cut(m: &Mesh, stroke: &[f64], options: &KatachiCutOptions) -> (KatachiStatus, Cut) {
-    let mut out = 1usize as *mut KatachiCut; // not NULL: must be reset on failure
+    let mut out = std::ptr::dangling_mut::<KatachiCut>(); // not NULL: must be reset on failure
     let s = unsafe {
         katachi_cut_by_stroke(
             m.0,

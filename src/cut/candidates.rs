@@ -186,15 +186,22 @@ impl CellGrid {
         cx | (cy << 16) | (flags as u32) << 24
     }
 
-    /// [`code`](Self::code) of every point of `ps` into `out`, four at a time with AVX2 when
-    /// the CPU has it (same bits).
+    /// [`code`](Self::code) of every point of `ps` into `out`, eight at a time with AVX-512
+    /// or four with AVX2 when the CPU has it (same bits).
     fn codes_into(&self, rows: &(DVec4, DVec4, DVec4), ps: &[DVec3], out: &mut [MaybeUninit<u32>]) {
         #[allow(unused_mut)]
         let mut done = 0;
         #[cfg(target_arch = "x86_64")]
-        if std::arch::is_x86_feature_detected!("avx2") {
+        if std::arch::is_x86_feature_detected!("avx512f")
+            && std::arch::is_x86_feature_detected!("avx512vl")
+            && std::arch::is_x86_feature_detected!("avx2")
+        {
+            // SAFETY: AVX-512 F, VL and AVX2 are there; sizes as below.
+            done =
+                unsafe { super::codes_simd::codes8(rows, &self.near, self.nx, self.ny, ps, out) };
+        } else if std::arch::is_x86_feature_detected!("avx2") {
             // SAFETY: AVX2 is there; `out` is as long as `ps`; `near` is (nx + 2) × (ny + 2).
-            done = unsafe { super::codes_avx2::codes(rows, &self.near, self.nx, self.ny, ps, out) };
+            done = unsafe { super::codes_simd::codes(rows, &self.near, self.nx, self.ny, ps, out) };
         }
         for (o, p) in out[done..].iter_mut().zip(&ps[done..]) {
             o.write(self.code(rows, *p));
@@ -582,11 +589,11 @@ mod tests {
     use crate::cut::view::{Projector, View};
     use glam::{DMat4, DVec2, DVec3};
 
-    /// The AVX2 pass gives the portable codes bit for bit: points everywhere on and off the
+    /// The AVX2 and AVX-512 passes give the portable codes bit for bit: points everywhere on and off the
     /// grid, on cell borders, behind the eye, on the eye plane, huge and NaN.
     #[test]
     #[cfg(target_arch = "x86_64")]
-    fn avx2_codes_match_the_portable_ones() {
+    fn simd_codes_match_the_portable_ones() {
         if !std::arch::is_x86_feature_detected!("avx2") {
             eprintln!("no AVX2 on this CPU: only the portable path runs");
             return;
@@ -628,15 +635,37 @@ mod tests {
             ps.push(proj.unproject(s + DVec2::new(0.0, 0.5 * grid.cell), 5.0, -0.2));
         }
         let portable: Vec<u32> = ps.iter().map(|&p| grid.code(&rows, p)).collect();
+        let check = |name: &str, done: usize, simd: &[std::mem::MaybeUninit<u32>], lanes: usize| {
+            assert_eq!(done, ps.len() / lanes * lanes, "{name}");
+            for (i, (a, b)) in portable.iter().zip(&simd[..done]).enumerate() {
+                // SAFETY: initialized above.
+                assert_eq!(
+                    *a,
+                    unsafe { b.assume_init() },
+                    "{name}, point {i}: {:?}",
+                    ps[i]
+                );
+            }
+        };
         let mut simd = vec![std::mem::MaybeUninit::new(0u32); ps.len()];
         // SAFETY: AVX2 checked; sizes as required.
         let done = unsafe {
-            super::super::codes_avx2::codes(&rows, &grid.near, grid.nx, grid.ny, &ps, &mut simd)
+            super::super::codes_simd::codes(&rows, &grid.near, grid.nx, grid.ny, &ps, &mut simd)
         };
-        assert_eq!(done, ps.len() / 4 * 4);
-        for (i, (a, b)) in portable.iter().zip(&simd[..done]).enumerate() {
-            // SAFETY: initialized above.
-            assert_eq!(*a, unsafe { b.assume_init() }, "point {i}: {:?}", ps[i]);
+        check("AVX2", done, &simd, 4);
+        if std::arch::is_x86_feature_detected!("avx512f")
+            && std::arch::is_x86_feature_detected!("avx512vl")
+        {
+            let mut simd = vec![std::mem::MaybeUninit::new(0u32); ps.len()];
+            // SAFETY: AVX-512 F, VL and AVX2 checked; sizes as required.
+            let done = unsafe {
+                super::super::codes_simd::codes8(
+                    &rows, &grid.near, grid.nx, grid.ny, &ps, &mut simd,
+                )
+            };
+            check("AVX-512", done, &simd, 8);
+        } else {
+            eprintln!("no AVX-512 on this CPU: its path is not checked here");
         }
         assert!(portable.contains(&BEHIND));
         assert!(portable.iter().any(|&c| c >> 31 == 1 && c != BEHIND));

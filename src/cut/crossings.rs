@@ -498,7 +498,7 @@ fn near_edge(region: &Region, lf: u32, s: DVec2, reach: f64) -> Option<(u32, f64
         }
         let foot = a + ab * t;
         let d = (foot - s).length();
-        if d < reach && best.map_or(true, |b| (d, e) < (b.0, b.1)) {
+        if d < reach && best.is_none_or(|b| (d, e) < (b.0, b.1)) {
             best = Some((d, e, t, foot));
         }
     }

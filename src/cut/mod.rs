@@ -64,7 +64,7 @@
 mod assemble;
 mod candidates;
 #[cfg(target_arch = "x86_64")]
-mod codes_avx2;
+mod codes_simd;
 mod crossings;
 mod edits;
 mod geom;

@@ -76,7 +76,7 @@ pub(crate) fn snap(
                 for &si in near(s) {
                     for k in [si as usize, (si as usize + 1) % n] {
                         let d = (prep.points[k] - s).length();
-                        if d < rv && best.map_or(true, |(bd, bk)| (d, k as u32) < (bd, bk)) {
+                        if d < rv && best.is_none_or(|(bd, bk)| (d, k as u32) < (bd, bk)) {
                             best = Some((d, k as u32));
                         }
                     }
@@ -130,7 +130,7 @@ pub(crate) fn snap(
                         a + ab * t
                     };
                     let d = (q - s).length();
-                    if d < rs && best.map_or(true, |(bd, bs, ..)| (d, si) < (bd, bs)) {
+                    if d < rs && best.is_none_or(|(bd, bs, ..)| (d, si) < (bd, bs)) {
                         best = Some((d, si, t, q));
                     }
                 }

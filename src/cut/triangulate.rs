@@ -42,7 +42,10 @@ pub(crate) fn triangles(mesh: &PolyMesh) -> Result<Triangles<'_>> {
         let lp = simple.face_outer(f);
         let before = tris.len();
         triangulate_polygon(pos, lp, &mut tris, &mut scratch);
-        origin.extend(std::iter::repeat(split_origin[f.idx()]).take(tris.len() - before));
+        origin.extend(std::iter::repeat_n(
+            split_origin[f.idx()],
+            tris.len() - before,
+        ));
     }
     let out = PolyMesh::from_polygons(pos.to_vec(), tris.iter())?;
     Ok(Triangles {

@@ -204,7 +204,7 @@ fn check_array<T>(p: *const T, len: usize, param: &str, why: &dyn Display) -> Ff
     check_ptr(p, param)?;
     if len
         .checked_mul(std::mem::size_of::<T>())
-        .map_or(true, |b| b > isize::MAX as usize)
+        .is_none_or(|b| b > isize::MAX as usize)
     {
         return Err(FfiError::invalid(format!(
             "{param}: {len} elements is more than any buffer can hold"

@@ -499,7 +499,7 @@ pub unsafe extern "C" fn katachi_subdivision_refine_face_varying(
         // SAFETY: the caller's promises above.
         let s = unsafe { sub_ref(subdivision) }?;
         let k = check_components(components)?;
-        if value_count % k != 0 {
+        if !value_count.is_multiple_of(k) {
             return Err(FfiError::invalid(format!(
                 "value_count {value_count} is not a multiple of components ({k})"
             )));

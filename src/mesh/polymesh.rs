@@ -50,7 +50,7 @@ impl PolyMesh {
         face_loop_counts: &[u32],
         corners: &[u32],
     ) -> Result<Self> {
-        if positions.len() % 3 != 0 {
+        if !positions.len().is_multiple_of(3) {
             return Err(Error::InconsistentArrays {
                 message: format!(
                     "positions has {} values, which is not a multiple of 3",

@@ -779,7 +779,7 @@ impl FaceGeom {
                 h
             } else {
                 let (s, l) = bridges[(h - n) / 2];
-                if (h - n) % 2 == 0 {
+                if (h - n).is_multiple_of(2) {
                     s
                 } else {
                     l
@@ -798,7 +798,7 @@ impl FaceGeom {
                 self.next(h)
             } else {
                 let (s, l) = bridges[(h - n) / 2];
-                if (h - n) % 2 == 0 {
+                if (h - n).is_multiple_of(2) {
                     l
                 } else {
                     s

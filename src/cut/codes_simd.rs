@@ -1,12 +1,14 @@
 //! Pass 1 of [`super::candidates`] (every vertex's grid code) four vertices at a time with
-//! AVX2, on CPUs that have it (detected at run time; the portable loop otherwise).
+//! AVX2, or eight with AVX-512, on CPUs that have them (detected at run time; the portable
+//! loop otherwise).
 //!
 //! The lanes do the same IEEE operations in the same order as [`CellGrid::code`] (products
 //! and sums apart, no fused multiply-add; `max`/`min` that drop NaN the same way; truncating
 //! conversions), so the codes are bit-identical whichever path runs (unit test
-//! `avx2_codes_match_the_portable_ones`) and the cut does not depend on the machine.
+//! `simd_codes_match_the_portable_ones`) and the cut does not depend on the machine.
 //! Written by hand because the compiler vectorizes neither the array-of-structs positions
-//! nor the table lookup: this pass is a quarter of a 1M-triangle cut, and AVX2 halves it.
+//! nor the table lookup: this pass is a quarter of a 1M-triangle cut; AVX2 halves it, and
+//! AVX-512 takes a fifth to a quarter more off (measured side by side on the same cuts).
 //!
 //! [`CellGrid::code`]: super::candidates::CellGrid::code
 
@@ -94,4 +96,89 @@ pub(crate) unsafe fn codes(
         _mm_storeu_si128(dst.add(i), code);
     }
     4 * n4
+}
+
+/// [`codes`] eight vertices at a time with AVX-512 (F, VL), the same operations lane by lane.
+///
+/// # Safety
+/// As [`codes`], and the CPU also has AVX-512 F and VL.
+#[target_feature(enable = "avx512f,avx512vl,avx2")]
+pub(crate) unsafe fn codes8(
+    rows: &(DVec4, DVec4, DVec4),
+    near: &[u8],
+    nx: i32,
+    ny: i32,
+    ps: &[DVec3],
+    out: &mut [MaybeUninit<u32>],
+) -> usize {
+    debug_assert!(out.len() >= ps.len());
+    debug_assert_eq!(near.len(), ((nx + 2) * (ny + 2)) as usize);
+    let b = |v: f64| _mm512_set1_pd(v);
+    let row = |r: DVec4| (b(r.x), b(r.y), b(r.z), b(r.w));
+    let (r0, r1, r2) = (row(rows.0), row(rows.1), row(rows.2));
+    let (zero, one) = (_mm512_setzero_pd(), b(1.0));
+    let (hx, hy) = (b(nx as f64 + 1.0), b(ny as f64 + 1.0));
+    let stride = _mm256_set1_epi32(nx + 2);
+    let ones = _mm256_set1_epi32(-1);
+    // Lanes of x, y, z: first from the first two loads (0..16), then the third (8 + k).
+    let pick = |a: [i64; 8]| _mm512_setr_epi64(a[0], a[1], a[2], a[3], a[4], a[5], a[6], a[7]);
+    let (ax, ay, az) = (
+        pick([0, 3, 6, 9, 12, 15, 0, 0]),
+        pick([1, 4, 7, 10, 13, 0, 0, 0]),
+        pick([2, 5, 8, 11, 14, 0, 0, 0]),
+    );
+    let (bx, by, bz) = (
+        pick([0, 1, 2, 3, 4, 5, 10, 13]),
+        pick([0, 1, 2, 3, 4, 8, 11, 14]),
+        pick([0, 1, 2, 3, 4, 9, 12, 15]),
+    );
+    let n8 = ps.len() / 8;
+    let src = ps.as_ptr() as *const f64;
+    let dst = out.as_mut_ptr() as *mut __m256i;
+    for i in 0..n8 {
+        let p = src.add(24 * i);
+        let (v0, v1, v2) = (
+            _mm512_loadu_pd(p),
+            _mm512_loadu_pd(p.add(8)),
+            _mm512_loadu_pd(p.add(16)),
+        );
+        let x = _mm512_permutex2var_pd(_mm512_permutex2var_pd(v0, ax, v1), bx, v2);
+        let y = _mm512_permutex2var_pd(_mm512_permutex2var_pd(v0, ay, v1), by, v2);
+        let z = _mm512_permutex2var_pd(_mm512_permutex2var_pd(v0, az, v1), bz, v2);
+        let dot = |a: (__m512d, __m512d, __m512d, __m512d)| {
+            _mm512_add_pd(
+                _mm512_add_pd(
+                    _mm512_add_pd(_mm512_mul_pd(a.0, x), _mm512_mul_pd(a.1, y)),
+                    _mm512_mul_pd(a.2, z),
+                ),
+                a.3,
+            )
+        };
+        let w = dot(r2);
+        let front = _mm512_cmp_pd_mask::<_CMP_GT_OQ>(w, zero);
+        let inv = _mm512_div_pd(one, w);
+        let clamp = |v: __m512d, h: __m512d| _mm512_min_pd(_mm512_max_pd(v, zero), h);
+        let cx = _mm512_cvttpd_epi32(clamp(_mm512_mul_pd(dot(r0), inv), hx));
+        let cy = _mm512_cvttpd_epi32(clamp(_mm512_mul_pd(dot(r1), inv), hy));
+        let at = _mm256_add_epi32(_mm256_mullo_epi32(cy, stride), cx);
+        let mut idx = [0i32; 8];
+        _mm256_storeu_si256(idx.as_mut_ptr() as *mut __m256i, at);
+        let near_at = |k: usize| *near.get_unchecked(idx[k] as usize) as i32;
+        let nb = _mm256_setr_epi32(
+            near_at(0),
+            near_at(1),
+            near_at(2),
+            near_at(3),
+            near_at(4),
+            near_at(5),
+            near_at(6),
+            near_at(7),
+        );
+        let code = _mm256_or_si256(
+            _mm256_or_si256(cx, _mm256_slli_epi32::<16>(cy)),
+            _mm256_slli_epi32::<24>(nb),
+        );
+        _mm256_storeu_si256(dst.add(i), _mm256_mask_mov_epi32(ones, front, code));
+    }
+    8 * n8
 }

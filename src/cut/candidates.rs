@@ -423,6 +423,22 @@ pub(crate) fn candidate_faces(
             // again face by face (few are: faces near each other in the mesh are mostly near
             // each other in the face order too).
             for (bi, block) in chunk.chunks(3 * BLOCK).enumerate() {
+                // The corner stream asked for 16 blocks (3 KiB) ahead: the hardware's stream
+                // prefetch alone left this pass waiting on it (torus −4% to −10%, spot equal,
+                // side by side on the same cuts).
+                #[cfg(target_arch = "x86_64")]
+                for line in 0..3 {
+                    // SAFETY: a prefetch reads nothing and cannot fault; `wrapping_add` keeps
+                    // the address computation defined past the end of the corners.
+                    unsafe {
+                        std::arch::x86_64::_mm_prefetch::<{ std::arch::x86_64::_MM_HINT_T0 }>(
+                            block
+                                .as_ptr()
+                                .wrapping_add(3 * BLOCK * 16 + 16 * line)
+                                .cast(),
+                        )
+                    };
+                }
                 // Fixed length (unrolled) but for a mesh's last block.
                 let near = match <&[VertexId; 3 * BLOCK]>::try_from(block) {
                     Ok(b) => b.chunks_exact(3).fold(0, |acc, t| {

@@ -17,6 +17,20 @@ use std::mem::MaybeUninit;
 
 use glam::{DVec3, DVec4};
 
+/// How far ahead (in f64s: 4.5 KiB of positions) the passes ask for their input: the
+/// hardware's stream prefetch alone left them waiting on memory (the AVX-512 pass −10% to
+/// −30% with it, side by side on the same cuts).
+const AHEAD: usize = 576;
+
+/// Asks for the `lines` cache lines from `p` on (a prefetch reads nothing and cannot fault).
+#[inline(always)]
+fn ahead(p: *const f64, lines: usize) {
+    for k in 0..lines {
+        // SAFETY: a prefetch has no effect on memory; the address is never dereferenced.
+        unsafe { _mm_prefetch::<_MM_HINT_T0>(p.wrapping_add(8 * k) as *const i8) };
+    }
+}
+
 /// Codes of `ps[..4k]` into `out[..4k]` (k = `ps.len() / 4`), returning 4k; the caller does
 /// the rest with the portable code. `near` is the grid's table of near flags, (nx + 2) × (ny + 2).
 ///
@@ -46,6 +60,8 @@ pub(crate) unsafe fn codes(
     for i in 0..n4 {
         // x0 y0 z0 x1 | y1 z1 x2 y2 | z2 x3 y3 z3 → x, y, z of the four.
         let p = src.add(12 * i);
+        // A line and a half per step: two prefetches cover it wherever it starts.
+        ahead(p.wrapping_add(AHEAD), 2);
         let (v0, v1, v2) = (
             _mm256_loadu_pd(p),
             _mm256_loadu_pd(p.add(4)),
@@ -137,6 +153,7 @@ pub(crate) unsafe fn codes8(
     let dst = out.as_mut_ptr() as *mut __m256i;
     for i in 0..n8 {
         let p = src.add(24 * i);
+        ahead(p.wrapping_add(AHEAD), 3);
         let (v0, v1, v2) = (
             _mm512_loadu_pd(p),
             _mm512_loadu_pd(p.add(8)),

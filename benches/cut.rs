@@ -43,7 +43,7 @@ fn meshes() -> Vec<(String, PolyMesh)> {
 /// The floor written the way the cut's vertex pass is: eight vertices at a time with AVX-512,
 /// or four with AVX2 (on CPUs without them, the plain floor), so the cut is also measured
 /// against a projection pass as hand-tuned as its own.
-fn project_all_avx2(mesh: &PolyMesh, view: &View, out: &mut Vec<DVec2>) {
+fn project_all_simd(mesh: &PolyMesh, view: &View, out: &mut Vec<DVec2>) {
     #[cfg(target_arch = "x86_64")]
     if std::arch::is_x86_feature_detected!("avx2") {
         let wide = std::arch::is_x86_feature_detected!("avx512f");
@@ -57,10 +57,10 @@ fn project_all_avx2(mesh: &PolyMesh, view: &View, out: &mut Vec<DVec2>) {
             // lengths.
             .for_each(|(o, p)| unsafe {
                 if wide {
-                    let done = avx2::project8(view, p, o);
-                    avx2::project(view, &p[done..], &mut o[done..]);
+                    let done = simd::project8(view, p, o);
+                    simd::project(view, &p[done..], &mut o[done..]);
                 } else {
-                    avx2::project(view, p, o);
+                    simd::project(view, p, o);
                 }
             });
         // SAFETY: every element was written.
@@ -71,7 +71,7 @@ fn project_all_avx2(mesh: &PolyMesh, view: &View, out: &mut Vec<DVec2>) {
 }
 
 #[cfg(target_arch = "x86_64")]
-mod avx2 {
+mod simd {
     use std::arch::x86_64::*;
     use std::mem::MaybeUninit;
 
@@ -255,7 +255,7 @@ fn cut(c: &mut Criterion) {
         });
         g.bench_function("floor, SIMD: project all vertices", |b| {
             let mut out = Vec::new();
-            b.iter(|| project_all_avx2(&mesh, &view, &mut out))
+            b.iter(|| project_all_simd(&mesh, &view, &mut out))
         });
         g.bench_function("clone the mesh", |b| {
             b.iter_with_large_drop(|| mesh.clone())
@@ -276,7 +276,7 @@ fn cut(c: &mut Criterion) {
         // rounds (this machine's speed drifts; interleaving keeps the ratios fair).
         let (mut plain, mut fast) = (Vec::new(), Vec::new());
         project_all(&mesh, &view, &mut plain);
-        project_all_avx2(&mesh, &view, &mut fast);
+        project_all_simd(&mesh, &view, &mut fast);
         let worst = plain
             .iter()
             .zip(&fast)
@@ -304,7 +304,7 @@ fn cut(c: &mut Criterion) {
                 std::hint::black_box(&plain);
             }));
             warm[1].push(twice(&mut || {
-                project_all_avx2(&mesh, &view, &mut fast);
+                project_all_simd(&mesh, &view, &mut fast);
                 std::hint::black_box(&fast);
             }));
             warm[2].push(twice(&mut || drop(std::hint::black_box(mesh.clone()))));

@@ -192,16 +192,19 @@ impl CellGrid {
         #[allow(unused_mut)]
         let mut done = 0;
         #[cfg(target_arch = "x86_64")]
-        if std::arch::is_x86_feature_detected!("avx512f")
-            && std::arch::is_x86_feature_detected!("avx512vl")
-            && std::arch::is_x86_feature_detected!("avx2")
-        {
-            // SAFETY: AVX-512 F, VL and AVX2 are there; sizes as below.
-            done =
-                unsafe { super::codes_simd::codes8(rows, &self.near, self.nx, self.ny, ps, out) };
-        } else if std::arch::is_x86_feature_detected!("avx2") {
-            // SAFETY: AVX2 is there; `out` is as long as `ps`; `near` is (nx + 2) × (ny + 2).
-            done = unsafe { super::codes_simd::codes(rows, &self.near, self.nx, self.ny, ps, out) };
+        if std::arch::is_x86_feature_detected!("avx2") {
+            let wide = std::arch::is_x86_feature_detected!("avx512f")
+                && std::arch::is_x86_feature_detected!("avx512vl");
+            let (near, nx, ny) = (&self.near, self.nx, self.ny);
+            // SAFETY: AVX2 (and for `codes8` AVX-512 F and VL) is there; `out` is as long as
+            // `ps`; `near` is (nx + 2) × (ny + 2).
+            done = unsafe {
+                if wide {
+                    super::codes_simd::codes8(rows, near, nx, ny, ps, out)
+                } else {
+                    super::codes_simd::codes(rows, near, nx, ny, ps, out)
+                }
+            };
         }
         for (o, p) in out[done..].iter_mut().zip(&ps[done..]) {
             o.write(self.code(rows, *p));
@@ -426,18 +429,8 @@ pub(crate) fn candidate_faces(
                 // The corner stream asked for 16 blocks (3 KiB) ahead: the hardware's stream
                 // prefetch alone left this pass waiting on it (torus −4% to −10%, spot equal,
                 // side by side on the same cuts).
-                #[cfg(target_arch = "x86_64")]
                 for line in 0..3 {
-                    // SAFETY: a prefetch reads nothing and cannot fault; `wrapping_add` keeps
-                    // the address computation defined past the end of the corners.
-                    unsafe {
-                        std::arch::x86_64::_mm_prefetch::<{ std::arch::x86_64::_MM_HINT_T0 }>(
-                            block
-                                .as_ptr()
-                                .wrapping_add(3 * BLOCK * 16 + 16 * line)
-                                .cast(),
-                        )
-                    };
+                    crate::mem::prefetch(block.as_ptr().wrapping_add(3 * BLOCK * 16 + 16 * line));
                 }
                 // Fixed length (unrolled) but for a mesh's last block.
                 let near = match <&[VertexId; 3 * BLOCK]>::try_from(block) {
@@ -583,17 +576,9 @@ pub(crate) fn sample_edge_length(
     let step = (nf / RUNS).max(RUN);
     // Every corner's position asked for first, so the misses overlap (one by one, on a mesh
     // whose vertex order is not spatial, they were a fifth of the grid step).
-    #[cfg(target_arch = "x86_64")]
-    {
-        for start in (0..nf).step_by(step) {
-            for &v in &corners[3 * start..3 * (start + RUN).min(nf)] {
-                // SAFETY: the address of an element of `positions`; a prefetch reads nothing.
-                unsafe {
-                    std::arch::x86_64::_mm_prefetch::<{ std::arch::x86_64::_MM_HINT_T0 }>(
-                        positions.as_ptr().add(v.idx()).cast(),
-                    )
-                };
-            }
+    for start in (0..nf).step_by(step) {
+        for &v in &corners[3 * start..3 * (start + RUN).min(nf)] {
+            crate::mem::prefetch(positions.as_ptr().wrapping_add(v.idx()));
         }
     }
     let (mut sum, mut n) = (0.0, 0u32);

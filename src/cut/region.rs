@@ -86,15 +86,8 @@ impl Region {
             .into_par_iter()
             .with_min_len(1024)
             .map(|i| {
-                #[cfg(target_arch = "x86_64")]
                 if let Some(&ahead) = verts.get(i + 24) {
-                    // SAFETY: the address of an element of `ps` (corners name vertices);
-                    // a prefetch reads nothing.
-                    unsafe {
-                        std::arch::x86_64::_mm_prefetch::<{ std::arch::x86_64::_MM_HINT_T0 }>(
-                            ps.as_ptr().add(ahead as usize).cast(),
-                        )
-                    };
+                    crate::mem::prefetch(ps.as_ptr().wrapping_add(ahead as usize));
                 }
                 let p = ps[verts[i] as usize];
                 (p, proj.see(p))

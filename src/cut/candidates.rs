@@ -300,8 +300,17 @@ impl CellGrid {
     /// Segments near cell (cx, cy).
     #[inline]
     pub fn segments_at(&self, cx: i32, cy: i32) -> &[u32] {
-        let c = (cy * self.nx + cx) as usize;
-        &self.seg_list[self.seg_start[c] as usize..self.seg_start[c + 1] as usize]
+        self.segments_along(cy, cx, cx)
+    }
+
+    /// The lists of cells `x0..=x1` of row `cy`, one after the other (cells are stored in
+    /// row-major order): what [`segments_at`](Self::segments_at) gives cell by cell, from
+    /// two reads instead of two per cell.
+    #[inline]
+    pub fn segments_along(&self, cy: i32, x0: i32, x1: i32) -> &[u32] {
+        let row = (cy * self.nx) as usize;
+        &self.seg_list[self.seg_start[row + x0 as usize] as usize
+            ..self.seg_start[row + x1 as usize + 1] as usize]
     }
 }
 

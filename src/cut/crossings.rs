@@ -91,11 +91,9 @@ fn sort_occurrences(occ: &mut Vec<Occ>) {
 fn segments_in(grid: &CellGrid, (x0, y0, x1, y1): (i32, i32, i32, i32), out: &mut Vec<u32>) {
     out.clear();
     for cy in y0..y1 + 1 {
-        for cx in x0..x1 + 1 {
-            for &k in grid.segments_at(cx, cy) {
-                if !out.contains(&k) {
-                    out.push(k);
-                }
+        for &k in grid.segments_along(cy, x0, x1) {
+            if !out.contains(&k) {
+                out.push(k);
             }
         }
     }

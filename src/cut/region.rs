@@ -370,21 +370,19 @@ fn face_near(
     // A ring of the last four (a slice rotation per segment was a library call).
     let (mut recent, mut slot) = ([u32::MAX; 4], 0usize);
     for cy in y0..y1 + 1 {
-        for cx in x0..x1 + 1 {
-            for &k in grid.segments_at(cx, cy) {
-                if recent.contains(&k) {
-                    continue;
-                }
-                recent[slot & 3] = k;
-                slot += 1;
-                let (p, q) = segments[k as usize];
-                if p.max(q).cmplt(lo).any() || p.min(q).cmpgt(hi).any() {
-                    continue;
-                }
-                match segment_triangle_gap2(p, q, s) {
-                    None => return Some(Near::Met),
-                    Some(g) => gap2 = gap2.min(g),
-                }
+        for &k in grid.segments_along(cy, x0, x1) {
+            if recent.contains(&k) {
+                continue;
+            }
+            recent[slot & 3] = k;
+            slot += 1;
+            let (p, q) = segments[k as usize];
+            if p.max(q).cmplt(lo).any() || p.min(q).cmpgt(hi).any() {
+                continue;
+            }
+            match segment_triangle_gap2(p, q, s) {
+                None => return Some(Near::Met),
+                Some(g) => gap2 = gap2.min(g),
             }
         }
     }

@@ -763,8 +763,8 @@ mod tests {
             for cx in -1..=nx {
                 for _ in 0..6 {
                     let mut c = [(cx, cy); 3];
-                    for k in 1..3 {
-                        c[k] = (
+                    for corner in &mut c[1..] {
+                        *corner = (
                             (cx + next(19) - 9).clamp(-1, nx),
                             (cy + next(19) - 9).clamp(-1, ny),
                         );

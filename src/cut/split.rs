@@ -329,10 +329,15 @@ impl<'r> Splitter<'r> {
     pub fn ensure_chord(&mut self, lf: u32, u: u32, w: u32, protected: &[(u32, u32)]) -> bool {
         let sign = self.r.sign[lf as usize];
         for _ in 0..32 {
-            let subs = self.face_subs(lf).to_vec();
-            if subs.iter().any(|t| t.contains(&u) && t.contains(&w)) {
+            if self
+                .face_subs(lf)
+                .iter()
+                .any(|t| t.contains(&u) && t.contains(&w))
+            {
                 return true;
             }
+            // A copy only to search for a flip (the chord is mostly there already).
+            let subs = self.face_subs(lf).to_vec();
             let (su, sw) = (self.screen(u), self.screen(w));
             let mut flipped = false;
             'search: for (i, t) in subs.iter().enumerate() {

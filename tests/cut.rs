@@ -1621,8 +1621,8 @@ fn edits_applied_by_hand_give_the_cut_mesh() {
     tris.extend(e.appended_faces.iter().map(|(t, _)| t.map(|v| v.0)));
     assert_eq!(pos, out.mesh.positions());
     assert_eq!(tris, faces_of(&out.mesh));
-    assert!(!e.split_edges.is_empty());
-    for (u, w, on) in &e.split_edges {
+    assert!(e.split_edges().len() > 0);
+    for (u, w, on) in e.split_edges() {
         assert!(!edge_set(&out.mesh).contains(&(u.0.min(w.0), u.0.max(w.0))));
         assert!(on.iter().all(|m| m.0 >= g.vertex_count()));
     }

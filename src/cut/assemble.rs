@@ -94,7 +94,7 @@ fn carry_attributes(input: &PolyMesh, out: &mut PolyMesh, face_origin: &[FaceId]
         }
     }
     let mut sharp = a.edge_sharpness.clone();
-    for (u, w, on) in &e.split_edges {
+    for (u, w, on) in e.split_edges() {
         if let Some(s) = sharp.remove(&(u.0.min(w.0), u.0.max(w.0))) {
             let chain: Vec<u32> = std::iter::once(u.0)
                 .chain(on.iter().map(|m| m.0))

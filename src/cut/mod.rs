@@ -500,22 +500,15 @@ fn plan<'a>(
         appended_faces.extend(subs[1..].iter().map(|t| (to_global(t), slot)));
     }
     rewritten_faces.sort_unstable_by_key(|x| x.0);
-    let split_edges: Vec<(VertexId, VertexId, Vec<VertexId>)> = region
-        .edges
-        .iter()
-        .enumerate()
-        .filter(|(e, _)| !sp.edge_vertices(*e as u32).is_empty())
-        .map(|(e, &[u, w])| {
-            let on = sp.edge_vertices(e as u32);
-            (
-                VertexId(global[u as usize]),
-                VertexId(global[w as usize]),
-                on.iter()
-                    .map(|&(_, m)| VertexId(global[m as usize]))
-                    .collect(),
-            )
-        })
-        .collect();
+    let (mut split_ends, mut split_start, mut split_on) = (Vec::new(), vec![0u32], Vec::new());
+    for (e, &[u, w]) in region.edges.iter().enumerate() {
+        let on = sp.edge_vertices(e as u32);
+        if !on.is_empty() {
+            split_ends.push((VertexId(global[u as usize]), VertexId(global[w as usize])));
+            split_on.extend(on.iter().map(|&(_, m)| VertexId(global[m as usize])));
+            split_start.push(split_on.len() as u32);
+        }
+    }
 
     // The report.
     let gid = |lv: u32| VertexId(global[lv as usize]);
@@ -615,7 +608,9 @@ fn plan<'a>(
         new_vertices: std::mem::take(&mut sp.new_pos),
         rewritten_faces,
         appended_faces,
-        split_edges,
+        split_ends,
+        split_start,
+        split_on,
         report,
         first_copy: nv_in + split_count as u32,
         copy_of: copies_of.iter().map(|&lv| global[lv as usize]).collect(),

@@ -113,6 +113,17 @@ pub(crate) fn group_by_key(keys: usize, pairs: &[(u32, u32)]) -> (Vec<u32>, Vec<
     (start, values)
 }
 
+/// A key whose unsigned order is `f64::total_cmp`'s.
+#[inline]
+pub(crate) fn f64_key(x: f64) -> u64 {
+    let b = x.to_bits();
+    if b >> 63 == 1 {
+        !b
+    } else {
+        b | 1 << 63
+    }
+}
+
 /// A key whose unsigned order is `f32::total_cmp`'s.
 #[inline]
 pub(crate) fn f32_key(x: f32) -> u32 {

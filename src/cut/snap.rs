@@ -106,7 +106,7 @@ pub(crate) fn snap(
 
     // Step 3: onto stroke segments; each snap inserts a stroke point at the foot.
     // (dist, v, seg, t, q), found on rayon as in step 2.
-    let mut feet: Vec<(f64, u32, u32, f64, DVec2)> = if rs > 0.0 {
+    let feet: Vec<(f64, u32, u32, f64, DVec2)> = if rs > 0.0 {
         let region = &*region;
         let snapped = &snapped;
         (0..region.verts.len() as u32)
@@ -140,9 +140,17 @@ pub(crate) fn snap(
     } else {
         Vec::new()
     };
-    feet.sort_unstable_by_key(|f| (f.0.to_bits(), f.1));
+    // By distance, then vertex (one foot per vertex), as in step 2: a sort of packed keys
+    // with each foot's index, not of the 48-byte feet (with the sort of the inserted points
+    // below, 9% to 15% of this step on spot).
+    let mut keys: Vec<u128> = feet
+        .iter()
+        .enumerate()
+        .map(|(i, f)| (f.0.to_bits() as u128) << 64 | (f.1 as u128) << 32 | i as u128)
+        .collect();
+    keys.sort_unstable();
     let mut inserted: Vec<(u32, f64, DVec2)> = Vec::new();
-    for &(_, v, si, t, q) in &feet {
+    for &(_, v, si, t, q) in keys.iter().map(|&k| &feet[k as u32 as usize]) {
         if guard(region, v, q, min_area2) {
             moves.push(apply(region, proj, v, q));
             snapped[v as usize] = true;
@@ -154,7 +162,15 @@ pub(crate) fn snap(
             refused_any[v as usize] = true;
         }
     }
-    inserted.sort_by(|a, b| a.0.cmp(&b.0).then(a.1.total_cmp(&b.1)));
+    // By segment, then parameter, ties in snapping order (a stable sort, as packed keys).
+    let mut keys: Vec<u128> = inserted
+        .iter()
+        .enumerate()
+        .map(|(i, x)| (x.0 as u128) << 96 | (super::radix::f64_key(x.1) as u128) << 32 | i as u128)
+        .collect();
+    keys.sort_unstable();
+    let mut inserted: Vec<(u32, f64, DVec2)> =
+        keys.iter().map(|&k| inserted[k as u32 as usize]).collect();
     inserted.dedup_by(|a, b| a.0 == b.0 && a.2 == b.2);
 
     // The snapped polyline: prepared points with the feet inserted in segment order. A closed

@@ -33,9 +33,9 @@ const NEAR_RING: u32 = 4;
 /// a corner outside that ring without looking at the grid ([`far_for_span`]).
 const MID_RING: u32 = 2;
 const CLOSE_RING: u32 = 1;
-/// Flags of the near table, as they sit in bits 24-31 of a vertex code: within
-/// [`NEAR_RING`], [`CLOSE_RING`] and [`MID_RING`] cells of a marked cell (each ring's cells
-/// carry the wider rings' flags too), and marked.
+/// Flags of the near table, as they sit in bits 24-31 of a vertex code: [`NEAR`], [`MID`] and
+/// [`CLOSE`], within [`NEAR_RING`], [`MID_RING`] and [`CLOSE_RING`] cells of a marked cell (a
+/// cell in a ring has the wider rings' flags too); [`MARKED`], the cell itself is marked.
 const NEAR: u8 = 0x80;
 const CLOSE: u8 = 0x40;
 const MARKED: u8 = 0x20;
@@ -116,8 +116,8 @@ impl CellGrid {
         super::radix::sort_by_key(&mut pairs);
         // Dilations by NEAR_RING, MID_RING, then CLOSE_RING cells (Chebyshev), from the runs
         // of marked cells along each row (pairs are in row-major cell order): one span per run
-        // and row it reaches. The band is thin and mostly along rows, so this writes a few spans
-        // where a span per cell wrote thousands. With the outside ring (never near), indexed
+        // and row it reaches. The band is thin and mostly along rows, so this writes a few
+        // spans where a span per cell wrote thousands. With the outside ring (never near), indexed
         // by code: (cy + 1)·(nx + 2) + cx + 1.
         let mut near = vec![0u8; ((nx + 2) * (ny + 2)) as usize];
         let runs = marked_runs(&pairs, nx as u32);
@@ -167,8 +167,8 @@ impl CellGrid {
     /// this grid): its cell, clamped to one outside ring, packed (x in bits 0-15, y in 16-27,
     /// both offset by one so the ring below is 0), with the cell's [`NEAR`], [`CLOSE`],
     /// [`MARKED`] and [`MID`] flags in bits 31, 30, 29 and 28; [`BEHIND`] behind the eye.
-    /// Branch-free but for the eye test; NaN clamps
-    /// to the ring (`f64::max` drops it). (No `floor`: without SSE4.1 it is a libm call.)
+    /// Branch-free but for the eye test; NaN clamps to the ring (`f64::max` drops it). (No
+    /// `floor`: without SSE4.1 it is a libm call.)
     #[inline]
     pub fn code(&self, rows: &(DVec4, DVec4, DVec4), p: DVec3) -> u32 {
         let h = p.extend(1.0);

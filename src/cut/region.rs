@@ -636,6 +636,7 @@ fn edge_rows(
                 }
             }
             let e = edges.len() as u32;
+            debug_assert!(e & tag == 0, "an edge number reaches the tag bit");
             edges.push([a, b]);
             let mut ef = [NONE; 2];
             for k in i..j {

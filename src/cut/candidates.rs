@@ -258,13 +258,14 @@ impl CellGrid {
         if (codes[0] | codes[1] | codes[2]) >> 24 & MARKED as u32 != 0 {
             return true;
         }
-        if far_for_span(codes) {
-            return false;
-        }
         let xs = codes.map(|c| (c & 0xffff) as i32 - 1);
         let ys = codes.map(|c| ((c >> 16) & 0xfff) as i32 - 1);
         let (x0, x1) = (xs[0].min(xs[1]).min(xs[2]), xs[0].max(xs[1]).max(xs[2]));
         let (y0, y1) = (ys[0].min(ys[1]).min(ys[2]), ys[0].max(ys[1]).max(ys[2]));
+        let all = ((codes[0] & codes[1] & codes[2]) >> 24) as u8;
+        if far_for_span(all, (x1 - x0).max(y1 - y0) as u32) {
+            return false;
+        }
         if x1 < 0 || y1 < 0 || x0 >= self.nx || y0 >= self.ny {
             return false;
         }
@@ -411,19 +412,13 @@ fn not_away(c: [u32; 3]) -> u32 {
 }
 
 /// Whether some corner of a face is farther from every marked cell than the face's cell box
-/// is wide (Chebyshev, in cells, from the rings' flags): every cell of the box is within its
-/// width of each corner, so the box then holds no marked cell. Each ring rejects the faces
-/// it is wider than with one corner outside it (spot, through all: 20k faces left for the
-/// cell scan with the near and close rings and "no corner in the ring", 4.5k with the
-/// middle ring and "some corner outside it").
+/// is wide, `span` cells (Chebyshev, from the ring flags `all` the corners have): every cell of
+/// the box is within its width of each corner, so the box then holds no marked cell. Each
+/// ring rejects the faces it is wider than with one corner outside it (spot, through all: 20k
+/// faces left for the cell scan with the near and close rings and "no corner in the ring",
+/// 4.5k with the middle ring and "some corner outside it").
 #[inline(always)]
-fn far_for_span(c: [u32; 3]) -> bool {
-    let all = ((c[0] & c[1] & c[2]) >> 24) as u8;
-    let xs = c.map(|c| c & 0xffff);
-    let ys = c.map(|c| (c >> 16) & 0xfff);
-    let wx = xs[0].max(xs[1]).max(xs[2]) - xs[0].min(xs[1]).min(xs[2]);
-    let wy = ys[0].max(ys[1]).max(ys[2]) - ys[0].min(ys[1]).min(ys[2]);
-    let span = wx.max(wy);
+fn far_for_span(all: u8, span: u32) -> bool {
     ((all & NEAR == 0) & (span <= NEAR_RING))
         | ((all & MID == 0) & (span <= MID_RING))
         | ((all & CLOSE == 0) & (span <= CLOSE_RING))

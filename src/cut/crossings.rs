@@ -57,9 +57,7 @@ pub(crate) fn key_cmp(a: (u32, f64), b: (u32, f64)) -> std::cmp::Ordering {
 fn sort_occurrences(occ: &mut Vec<Occ>) {
     type Key = (u32, u64, u8, u32, u32, bool, u32);
     let key = |i: usize, o: &Occ| -> Key {
-        let b = o.key.1.to_bits() as i64;
-        // f64::total_cmp's order, as unsigned bits.
-        let t = (b ^ (((b >> 63) as u64) >> 1) as i64) as u64 ^ (1 << 63);
+        let t = super::radix::f64_key(o.key.1);
         let (tag, a, c, d) = match o.elem {
             Elem::V(v) => (0, v, 0, false),
             Elem::E { edge, at, on_point } => (1, edge, at, on_point),

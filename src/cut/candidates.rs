@@ -28,18 +28,18 @@ const BLOCK: usize = 16;
 /// cells are rejected from their corners' bits alone. Cells are about one mean edge long and
 /// edges vary, so 1 sent a quarter of a dense mesh's faces to the slow test; 4 sends few
 /// and suits [`not_away`]'s lanes.
-const NEAR_RING: u32 = 4;
+pub(crate) const NEAR_RING: u32 = 4;
 /// Tighter rings for the slow test, which rejects a face spanning at most a ring's width with
 /// a corner outside that ring without looking at the grid ([`far_for_span`]).
-const MID_RING: u32 = 2;
-const CLOSE_RING: u32 = 1;
+pub(crate) const MID_RING: u32 = 2;
+pub(crate) const CLOSE_RING: u32 = 1;
 /// Flags of the near table, as they sit in bits 24-31 of a vertex code: [`NEAR`], [`MID`] and
 /// [`CLOSE`], within [`NEAR_RING`], [`MID_RING`] and [`CLOSE_RING`] cells of a marked cell (a
 /// cell in a ring has the wider rings' flags too); [`MARKED`], the cell itself is marked.
-const NEAR: u8 = 0x80;
-const CLOSE: u8 = 0x40;
-const MARKED: u8 = 0x20;
-const MID: u8 = 0x10;
+pub(crate) const NEAR: u8 = 0x80;
+pub(crate) const CLOSE: u8 = 0x40;
+pub(crate) const MARKED: u8 = 0x20;
+pub(crate) const MID: u8 = 0x10;
 
 /// The grid over the stroke: geometry, marked cells and the segments near each cell.
 #[derive(Debug, Clone)]
@@ -434,6 +434,9 @@ pub(crate) fn candidate_faces(
     codes: &[u32],
     grid: &CellGrid,
 ) -> (Kept, Vec<u32>) {
+    // Near blocks sixteen faces at a time with AVX-512 (`faces_simd`).
+    #[cfg(target_arch = "x86_64")]
+    let wide = std::arch::is_x86_feature_detected!("avx512f") && codes.len() <= i32::MAX as usize;
     let chunks: Vec<(Kept, Vec<u32>)> = corners
         .par_chunks(3 * CHUNK)
         .enumerate()
@@ -468,6 +471,30 @@ pub(crate) fn candidate_faces(
                 if near == 0 {
                     continue;
                 }
+                #[cfg(target_arch = "x86_64")]
+                if let (true, Ok(b)) = (wide, <&[VertexId; 3 * BLOCK]>::try_from(block)) {
+                    // SAFETY: AVX-512 F is there; a PolyMesh's corners name its vertices, and
+                    // there are at most i32::MAX of them (`wide`).
+                    let lanes = unsafe { super::faces_simd::near_block(as_ids(b), codes) };
+                    let mut todo = lanes.keep | lanes.scan;
+                    while todo != 0 {
+                        let i = todo.trailing_zeros() as usize;
+                        todo &= todo - 1;
+                        let t = &b[3 * i..3 * i + 3];
+                        if lanes.scan >> i & 1 != 0
+                            && !grid.any_marked([code(t[0]), code(t[1]), code(t[2])])
+                        {
+                            continue;
+                        }
+                        let f = base + (bi * BLOCK + i) as u32;
+                        keep.faces.push(f);
+                        keep.corners.push([t[0].0, t[1].0, t[2].0]);
+                        if lanes.straddles >> i & 1 != 0 {
+                            clipped.push(f);
+                        }
+                    }
+                    continue;
+                }
                 for (i, t) in block.chunks_exact(3).enumerate() {
                     let c = [code(t[0]), code(t[1]), code(t[2])];
                     if not_away(c) == 0 {
@@ -498,6 +525,13 @@ pub(crate) fn candidate_faces(
         clipped.extend(c);
     }
     (keep, clipped)
+}
+
+/// A block's corners as plain ids.
+#[cfg(target_arch = "x86_64")]
+fn as_ids(b: &[VertexId; 3 * BLOCK]) -> &[u32; 3 * BLOCK] {
+    // SAFETY: VertexId is a transparent u32.
+    unsafe { &*(b as *const [VertexId; 3 * BLOCK]).cast() }
 }
 
 /// Kept faces (ascending) and their corners (global vertex ids).
@@ -776,6 +810,86 @@ mod tests {
             }
         }
         assert!(kept > 100 && kept < seen / 2, "{kept} of {seen}");
+    }
+
+    /// The AVX-512 near-block classifier decides every face as the face-by-face loop does:
+    /// random corners on and around a band (some behind the eye), in blocks of 16.
+    #[cfg(target_arch = "x86_64")]
+    #[test]
+    fn simd_near_blocks_match_the_face_loop() {
+        if !std::arch::is_x86_feature_detected!("avx512f") {
+            eprintln!("no AVX-512 on this CPU: its path is not checked here");
+            return;
+        }
+        let segs: Vec<(DVec2, DVec2)> = (0..12)
+            .map(|i| {
+                let p = |k: f64| DVec2::new(20.0 + 9.0 * k, 40.0 + 14.0 * (0.7 * k).sin());
+                (p(i as f64), p(i as f64 + 1.0))
+            })
+            .collect();
+        let grid = CellGrid::new(&segs, 1.5, 1.0);
+        let (nx, ny) = (grid.nx, grid.ny);
+        let mut r = 0x9e37_79b9_7f4a_7c15u64;
+        let mut next = |m: i32| {
+            r ^= r << 13;
+            r ^= r >> 7;
+            r ^= r << 17;
+            (r % m as u64) as i32
+        };
+        // Vertex codes: each cell of the grid and its outside ring, and "behind".
+        let mut codes = Vec::new();
+        for cy in -1..=ny {
+            for cx in -1..=nx {
+                let at = ((cy + 1) * (nx + 2) + cx + 1) as usize;
+                codes
+                    .push((cx + 1) as u32 | ((cy + 1) as u32) << 16 | (grid.near[at] as u32) << 24);
+            }
+        }
+        codes.push(BEHIND);
+        let id =
+            |cx: i32, cy: i32| ((cy.clamp(-1, ny) + 1) * (nx + 2) + cx.clamp(-1, nx) + 1) as u32;
+        let behind = codes.len() as u32 - 1;
+        let (mut kept, mut scanned) = (0, 0);
+        for _ in 0..20_000 {
+            let mut block = [0u32; 48];
+            for f in block.chunks_exact_mut(3) {
+                let (cx, cy) = (next(nx + 2) - 1, next(ny + 2) - 1);
+                let reach = [2, 5, 19][next(3) as usize];
+                f[0] = id(cx, cy);
+                for v in &mut f[1..] {
+                    *v = id(cx + next(reach) - reach / 2, cy + next(reach) - reach / 2);
+                }
+                for v in f.iter_mut() {
+                    if next(40) == 0 {
+                        *v = behind;
+                    }
+                }
+            }
+            // SAFETY: AVX-512 F checked; every id names a code.
+            let lanes = unsafe { super::super::faces_simd::near_block(&block, &codes) };
+            for (i, f) in block.chunks_exact(3).enumerate() {
+                let c = [
+                    codes[f[0] as usize],
+                    codes[f[1] as usize],
+                    codes[f[2] as usize],
+                ];
+                let bit = |m: u16| m >> i & 1 != 0;
+                let n = c.iter().filter(|&&x| x == BEHIND).count();
+                let straddles = n > 0 && n < 3;
+                let loop_keeps =
+                    super::not_away(c) != 0 && ((n == 0 && grid.any_marked(c)) || straddles);
+                let simd_keeps = bit(lanes.keep) || (bit(lanes.scan) && grid.any_marked(c));
+                assert_eq!(simd_keeps, loop_keeps, "codes {c:x?}");
+                assert_eq!(bit(lanes.straddles), straddles && super::not_away(c) != 0);
+                assert!(!(bit(lanes.keep) && bit(lanes.scan)));
+                kept += loop_keeps as u32;
+                scanned += bit(lanes.scan) as u32;
+            }
+        }
+        assert!(
+            kept > 1000 && scanned > 100,
+            "{kept} kept, {scanned} scanned"
+        );
     }
 
     #[test]

@@ -67,6 +67,8 @@ mod candidates;
 mod codes_simd;
 mod crossings;
 mod edits;
+#[cfg(target_arch = "x86_64")]
+mod faces_simd;
 mod geom;
 mod interpolate;
 mod locate;

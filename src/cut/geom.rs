@@ -4,6 +4,14 @@
 use glam::{DVec2, DVec3};
 use robust::{orient2d, Coord};
 
+/// `t.map(f)` for a face's three corners, always inlined: `[T; 3]::map` with a closure
+/// that can panic (an index, an `expect`) stayed a call that returned its array through
+/// memory, and the loads right after waited on it (snapping −7% to −20% side by side).
+#[inline(always)]
+pub(crate) fn map3<T: Copy, U>(t: [T; 3], mut f: impl FnMut(T) -> U) -> [U; 3] {
+    [f(t[0]), f(t[1]), f(t[2])]
+}
+
 /// Twice the signed area of abc: > 0 when a, b, c turn counter-clockwise in a y-up frame
 /// (clockwise on the y-down screen), exact in sign.
 #[inline]

@@ -10,6 +10,7 @@
 use glam::DVec2;
 use smallvec::SmallVec;
 
+use super::geom::map3;
 use super::region::Region;
 use super::visibility::FaceBuckets;
 
@@ -76,7 +77,7 @@ impl PointFaces {
                 .map(|s| s.map_or(f64::NAN, |s| s.screen.x))
                 .collect();
             for (lf, t) in region.tri.iter().enumerate() {
-                let x = t.map(|v| xs[v as usize]);
+                let x = map3(*t, |v| xs[v as usize]);
                 let (lo, hi) = (x[0].min(x[1]).min(x[2]), x[0].max(x[1]).max(x[2]));
                 // A corner behind the eye (NaN) drops out of min and max; `face_box` skips it.
                 if !(hi >= x0 && lo <= last.x && any_marked(column(lo), column(hi))) {

@@ -12,7 +12,7 @@ use glam::{DVec2, DVec3};
 use rayon::prelude::*;
 
 use super::candidates::{segment_triangle_gap2, CellGrid, Kept};
-use super::geom::orient;
+use super::geom::{map3, orient};
 use super::options::{CutMode, CutOptions};
 use super::view::{Projector, Seen};
 use super::visibility::FaceBuckets;
@@ -189,7 +189,7 @@ impl Region {
     /// Screen corners of a projectable face.
     #[inline]
     pub fn face_screen(&self, lf: u32) -> [DVec2; 3] {
-        self.tri[lf as usize].map(|v| self.screen(v))
+        map3(self.tri[lf as usize], |v| self.screen(v))
     }
 
     /// Whether a face's corners are all in front of the eye.
@@ -342,7 +342,7 @@ fn face_near(
     segments: &[(DVec2, DVec2)],
     margin: f64,
 ) -> Option<Near> {
-    let [Some(a), Some(b), Some(c)] = t.map(|v| seen[v as usize]) else {
+    let [Some(a), Some(b), Some(c)] = map3(t, |v| seen[v as usize]) else {
         return Some(Near::Gap2(0.0));
     };
     let s = [a.screen, b.screen, c.screen];
@@ -355,7 +355,7 @@ fn face_near(
     // of the half diagonal, far above 1e-9 of the margin). Each segment tested once: the last
     // few tested are remembered (a segment spans many cells of a small box). Segments whose
     // box is farther than `keep` are skipped: they cannot be the nearest within it.
-    let c = t.map(|v| cells[v as usize]);
+    let c = map3(t, |v| cells[v as usize]);
     let (x0, y0, x1, y1) = grid.clamp(
         (
             c[0].0.min(c[1].0).min(c[2].0),
@@ -463,7 +463,9 @@ pub(crate) fn lift_with(
     t: [u32; 3],
     l: [f64; 3],
 ) -> (f64, DVec3) {
-    let seen = t.map(|v| seen[v as usize].expect("a candidate face is projectable"));
+    let seen = map3(t, |v| {
+        seen[v as usize].expect("a candidate face is projectable")
+    });
     let z = l[0] * seen[0].z + l[1] * seen[1].z + l[2] * seen[2].z;
     let m = [l[0] / seen[0].w, l[1] / seen[1].w, l[2] / seen[2].w];
     let x = (pos[t[0] as usize] * m[0] + pos[t[1] as usize] * m[1] + pos[t[2] as usize] * m[2])

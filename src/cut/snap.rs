@@ -242,14 +242,15 @@ pub(crate) fn snap(
 /// Fold-over guard (spec §4 step 2, gap-fill): moving `v` to `q` keeps every non-degenerate
 /// face around it turning the same way, with area at least 1e-12·L².
 fn guard(region: &Region, v: u32, q: DVec2, min_area2: f64) -> bool {
+    let at = |x: u32| if x == v { q } else { region.screen(x) };
     region.vertex_faces(v).iter().all(|&lf| {
         let sign = region.sign[lf as usize];
         if sign == 0.0 {
             return true;
         }
-        let t = region.tri[lf as usize];
-        let p = t.map(|x| if x == v { q } else { region.screen(x) });
-        let o = orient(p[0], p[1], p[2]);
+        // Corner by corner: `t.map(at)` was a call that returned the points through memory.
+        let [a, b, c] = region.tri[lf as usize];
+        let o = orient(at(a), at(b), at(c));
         o * sign > 0.0 && o.abs() >= min_area2
     })
 }

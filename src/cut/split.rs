@@ -18,7 +18,7 @@ use rayon::prelude::*;
 use smallvec::SmallVec;
 
 use super::crossings::{elem_depth, Elem, Occ};
-use super::geom::{in_triangle, max_cos_sides, orient};
+use super::geom::{in_triangle, map3, max_cos_sides, orient};
 use super::region::{Region, NONE};
 
 /// A touched face's sub-triangles: at most four but where pieces meet in one face.
@@ -270,7 +270,7 @@ impl<'r> Splitter<'r> {
         let subs = self.face_subs(lf);
         let mut on_edge = None;
         for (i, t) in subs.iter().enumerate() {
-            let p = t.map(|v| self.screen(v));
+            let p = map3(*t, |v| self.screen(v));
             match in_triangle(p[0], p[1], p[2], sign, s) {
                 Some(true) => return Some(Location::Inside(i)),
                 Some(false) if on_edge.is_none() => {
@@ -495,7 +495,7 @@ fn flip(
         return false;
     };
     let q = rotated(subs[j], rj)[2];
-    let s = [x, q, y, p].map(|v| sp.screen(v));
+    let s = [sp.screen(x), sp.screen(q), sp.screen(y), sp.screen(p)];
     let convex = (0..4).all(|k| orient(s[k], s[(k + 1) % 4], s[(k + 2) % 4]) * sign > 0.0);
     if !convex {
         return false;

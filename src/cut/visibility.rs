@@ -20,7 +20,7 @@ use glam::{DVec2, DVec3};
 use rayon::prelude::*;
 
 use super::candidates::{cell_of, CellGrid};
-use super::geom::{barycentric, in_triangle};
+use super::geom::{barycentric, in_triangle, map3};
 use super::radix::{f32_key, sort_by_key};
 use super::region::{lift_with, Region};
 use super::view::Seen;
@@ -90,7 +90,7 @@ impl FaceBuckets {
             .par_iter()
             .with_min_len(1024)
             .map(|t| {
-                let [a, b, c] = t.map(|v| seen[v as usize].map(|s| s.screen));
+                let [a, b, c] = map3(*t, |v| seen[v as usize].map(|s| s.screen));
                 Some((a?.min(b?).min(c?), a?.max(b?).max(c?)))
             })
             .collect();
@@ -133,7 +133,7 @@ impl FaceBuckets {
                     return None;
                 }
                 let cells = range(lo - pad, hi + pad)?;
-                let z = tri[lf].map(|v| seen[v as usize].map_or(0.0, |s| s.z));
+                let z = map3(tri[lf], |v| seen[v as usize].map_or(0.0, |s| s.z));
                 let near = down(z[0].min(z[1]).min(z[2]));
                 let entry = Entry {
                     face: lf as u32,
@@ -272,7 +272,7 @@ impl FaceBuckets {
         z: f64,
         x: DVec3,
     ) -> bool {
-        let [a, b, c] = t.map(|v| {
+        let [a, b, c] = map3(t, |v| {
             seen[v as usize]
                 .expect("a bucketed face is projectable")
                 .screen

@@ -101,7 +101,9 @@ use crossings::{Elem, Occ};
 use region::{Region, NONE};
 use visibility::Before;
 
+use std::panic::AssertUnwindSafe;
 use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::OnceLock;
 
 /// Cuts `mesh` along `stroke` drawn over `view` (seed 002; spec §4). Never changes `mesh`.
 ///
@@ -365,36 +367,57 @@ fn plan<'a>(
                 None => runs.push(chain.occ),
             }
         }
-        // Runs are normalized apart (read-only, so on rayon), then placed in order.
-        let normalized: Vec<Vec<normalize::Normalized>> = runs
-            .par_iter()
-            .map(|run| normalize::normalize(&region, &occ, run))
-            .collect();
-        for nzs in normalized {
-            for nz in nzs {
-                let mut verts: Vec<u32> = Vec::with_capacity(nz.occ.len());
-                let mut faces = Vec::with_capacity(nz.faces.len());
-                for (k, &o) in nz.occ.iter().enumerate() {
-                    in_final[o as usize] = true;
-                    let v = sp.vertex_for(&occ[o as usize]);
-                    // A piece end merged into a neighbouring vertex adds no step.
-                    if verts.last() == Some(&v) {
-                        continue;
+        // Runs are normalized apart (read-only) on rayon and placed in order, each as soon
+        // as it is ready: this thread places one run while the pool normalizes the next.
+        // A slot holds `None` when its job panicked (caught, so this thread stops waiting
+        // and panics in turn instead of spinning for ever).
+        let slots: Vec<OnceLock<Option<Vec<normalize::Normalized>>>> =
+            runs.iter().map(|_| OnceLock::new()).collect();
+        rayon::scope(|s| {
+            // Spawned last to first: this thread takes its newest job, the first run, and an
+            // idle worker steals the oldest, the last.
+            for (run, slot) in runs.iter().zip(&slots).rev() {
+                let (region, occ) = (&region, &occ);
+                s.spawn(move |_| {
+                    let job = || normalize::normalize(region, occ, run);
+                    let _ = slot.set(std::panic::catch_unwind(AssertUnwindSafe(job)).ok());
+                });
+            }
+            for slot in &slots {
+                let nzs = loop {
+                    if let Some(n) = slot.get() {
+                        break n.as_ref().expect("normalizing a run panicked");
                     }
-                    if k > 0 {
-                        faces.push(nz.faces[k - 1]);
+                    // Normalize a run meanwhile, or wait for the worker doing this one.
+                    if rayon::yield_now() != Some(rayon::Yield::Executed) {
+                        std::hint::spin_loop();
                     }
-                    verts.push(v);
-                }
-                if verts.len() >= 2 {
-                    paths.push(LocalPath {
-                        piece: pi as u32,
-                        verts,
-                        faces,
-                    });
+                };
+                for nz in nzs {
+                    let mut verts: Vec<u32> = Vec::with_capacity(nz.occ.len());
+                    let mut faces = Vec::with_capacity(nz.faces.len());
+                    for (k, &o) in nz.occ.iter().enumerate() {
+                        in_final[o as usize] = true;
+                        let v = sp.vertex_for(&occ[o as usize]);
+                        // A piece end merged into a neighbouring vertex adds no step.
+                        if verts.last() == Some(&v) {
+                            continue;
+                        }
+                        if k > 0 {
+                            faces.push(nz.faces[k - 1]);
+                        }
+                        verts.push(v);
+                    }
+                    if verts.len() >= 2 {
+                        paths.push(LocalPath {
+                            piece: pi as u32,
+                            verts,
+                            faces,
+                        });
+                    }
                 }
             }
-        }
+        });
     }
     let split_count = sp.new_pos.len();
     trace.mark("normalize");

@@ -406,9 +406,9 @@ struct NearFaces {
 fn keep_near(
     candidates: &[u32],
     tri: Vec<[u32; 3]>,
-    verts: Vec<u32>,
-    seen: Vec<Option<Seen>>,
-    pos: Vec<DVec3>,
+    mut verts: Vec<u32>,
+    mut seen: Vec<Option<Seen>>,
+    mut pos: Vec<DVec3>,
     near: &[Option<Near>],
     reach: f64,
 ) -> NearFaces {
@@ -428,20 +428,20 @@ fn keep_near(
             used[v as usize] = true;
         }
     }
-    // Likewise each vertex copied to the next slot, which only a used one keeps.
+    // Likewise each vertex moved to the next slot, which only a used one keeps: in place
+    // (slot c is at most v), so no array is made and filled for it.
     let mut new_id = vec![0u32; nv];
-    let (mut verts2, mut seen2, mut pos2) = (vec![0u32; nv], vec![None; nv], vec![DVec3::ZERO; nv]);
     let mut c = 0usize;
     for v in 0..nv {
         new_id[v] = c as u32;
-        verts2[c] = verts[v];
-        seen2[c] = seen[v];
-        pos2[c] = pos[v];
+        verts[c] = verts[v];
+        seen[c] = seen[v];
+        pos[c] = pos[v];
         c += used[v] as usize;
     }
-    verts2.truncate(c);
-    seen2.truncate(c);
-    pos2.truncate(c);
+    verts.truncate(c);
+    seen.truncate(c);
+    pos.truncate(c);
     let faces = kept.iter().map(|&i| candidates[i as usize]).collect();
     let tri2 = kept
         .iter()
@@ -450,9 +450,9 @@ fn keep_near(
     NearFaces {
         faces,
         tri: tri2,
-        verts: verts2,
-        seen: seen2,
-        pos: pos2,
+        verts,
+        seen,
+        pos,
     }
 }
 

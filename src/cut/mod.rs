@@ -513,7 +513,7 @@ fn plan<'a>(
             }
         })
         .collect();
-    let to_global = |t: &[u32; 3]| t.map(|v| VertexId(global[v as usize]));
+    let to_global = |t: &[u32; 3]| geom::map3(*t, |v| VertexId(global[v as usize]));
     let mut touched = sp.touched.clone();
     touched.sort_unstable();
     let mut rewritten_faces = Vec::with_capacity(touched.len());

@@ -747,23 +747,42 @@ mod tests {
         assert!(portable.iter().any(|&c| c >> 31 == 1 && c != BEHIND));
     }
 
-    /// The face test keeps every face whose corners' cell box holds a marked cell, and only
-    /// those: corner cells on and around a wavy band (the outside ring included), boxes up
-    /// to nine cells wide, against a scan of the box. The fast block test never rejects one.
-    #[test]
-    fn the_face_test_is_the_marked_box_test() {
+    /// A grid over a wavy band of twelve segments (margin 1.5, cells 1 wide).
+    fn wavy_grid() -> CellGrid {
         let segs: Vec<(DVec2, DVec2)> = (0..12)
             .map(|i| {
                 let p = |k: f64| DVec2::new(20.0 + 9.0 * k, 40.0 + 14.0 * (0.7 * k).sin());
                 (p(i as f64), p(i as f64 + 1.0))
             })
             .collect();
-        let grid = CellGrid::new(&segs, 1.5, 1.0);
+        CellGrid::new(&segs, 1.5, 1.0)
+    }
+
+    /// The vertex code of a point in cell (cx, cy) of `grid` (−1 and n: the outside ring).
+    fn cell_code(grid: &CellGrid, cx: i32, cy: i32) -> u32 {
+        let at = ((cy + 1) * (grid.nx + 2) + cx + 1) as usize;
+        (cx + 1) as u32 | ((cy + 1) as u32) << 16 | (grid.near[at] as u32) << 24
+    }
+
+    /// Deterministic draws in `0..m` (xorshift from `seed`).
+    fn draws(seed: u64) -> impl FnMut(i32) -> i32 {
+        let mut r = seed;
+        move |m| {
+            r ^= r << 13;
+            r ^= r >> 7;
+            r ^= r << 17;
+            (r % m as u64) as i32
+        }
+    }
+
+    /// The face test keeps every face whose corners' cell box holds a marked cell, and only
+    /// those: corner cells on and around a wavy band (the outside ring included), boxes up
+    /// to nine cells wide, against a scan of the box. The fast block test never rejects one.
+    #[test]
+    fn the_face_test_is_the_marked_box_test() {
+        let grid = wavy_grid();
         let (nx, ny) = (grid.nx, grid.ny);
-        let code = |cx: i32, cy: i32| {
-            let at = ((cy + 1) * (nx + 2) + cx + 1) as usize;
-            (cx + 1) as u32 | ((cy + 1) as u32) << 16 | (grid.near[at] as u32) << 24
-        };
+        let code = |cx: i32, cy: i32| cell_code(&grid, cx, cy);
         let marked_in_box = |c: [(i32, i32); 3]| {
             let (x0, x1) = (
                 c.iter().map(|p| p.0).min().unwrap(),
@@ -781,13 +800,7 @@ mod tests {
         // A deterministic spread of corners: every cell as corner 0, the others within
         // nine cells of it.
         let (mut kept, mut seen) = (0, 0);
-        let mut r = 0x2545_f491_4f6c_dd1du64;
-        let mut next = |m: i32| {
-            r ^= r << 13;
-            r ^= r >> 7;
-            r ^= r << 17;
-            (r % m as u64) as i32
-        };
+        let mut next = draws(0x2545_f491_4f6c_dd1d);
         for cy in -1..=ny {
             for cx in -1..=nx {
                 for _ in 0..6 {
@@ -821,30 +834,14 @@ mod tests {
             eprintln!("no AVX-512 on this CPU: its path is not checked here");
             return;
         }
-        let segs: Vec<(DVec2, DVec2)> = (0..12)
-            .map(|i| {
-                let p = |k: f64| DVec2::new(20.0 + 9.0 * k, 40.0 + 14.0 * (0.7 * k).sin());
-                (p(i as f64), p(i as f64 + 1.0))
-            })
-            .collect();
-        let grid = CellGrid::new(&segs, 1.5, 1.0);
+        let grid = wavy_grid();
         let (nx, ny) = (grid.nx, grid.ny);
-        let mut r = 0x9e37_79b9_7f4a_7c15u64;
-        let mut next = |m: i32| {
-            r ^= r << 13;
-            r ^= r >> 7;
-            r ^= r << 17;
-            (r % m as u64) as i32
-        };
+        let mut next = draws(0x9e37_79b9_7f4a_7c15);
         // Vertex codes: each cell of the grid and its outside ring, and "behind".
-        let mut codes = Vec::new();
-        for cy in -1..=ny {
-            for cx in -1..=nx {
-                let at = ((cy + 1) * (nx + 2) + cx + 1) as usize;
-                codes
-                    .push((cx + 1) as u32 | ((cy + 1) as u32) << 16 | (grid.near[at] as u32) << 24);
-            }
-        }
+        let mut codes: Vec<u32> = (-1..=ny)
+            .flat_map(|cy| (-1..=nx).map(move |cx| (cx, cy)))
+            .map(|(cx, cy)| cell_code(&grid, cx, cy))
+            .collect();
         codes.push(BEHIND);
         let id =
             |cx: i32, cy: i32| ((cy.clamp(-1, ny) + 1) * (nx + 2) + cx.clamp(-1, nx) + 1) as u32;

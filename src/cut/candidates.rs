@@ -258,14 +258,14 @@ impl CellGrid {
         if (codes[0] | codes[1] | codes[2]) >> 24 & MARKED as u32 != 0 {
             return true;
         }
-        let xs = codes.map(|c| (c & 0xffff) as i32 - 1);
-        let ys = codes.map(|c| ((c >> 16) & 0xfff) as i32 - 1);
-        let (x0, x1) = (xs[0].min(xs[1]).min(xs[2]), xs[0].max(xs[1]).max(xs[2]));
-        let (y0, y1) = (ys[0].min(ys[1]).min(ys[2]), ys[0].max(ys[1]).max(ys[2]));
+        let b = cell_box(codes);
         let all = ((codes[0] & codes[1] & codes[2]) >> 24) as u8;
-        if far_for_span(all, (x1 - x0).max(y1 - y0) as u32) {
-            return false;
-        }
+        !far_for_span(all, (b.2 - b.0).max(b.3 - b.1) as u32) && self.box_marked(b)
+    }
+
+    /// Whether any cell of the inclusive range `(x0, y0, x1, y1)` is marked, cell by cell
+    /// (the rest of the range off the grid).
+    fn box_marked(&self, (x0, y0, x1, y1): (i32, i32, i32, i32)) -> bool {
         if x1 < 0 || y1 < 0 || x0 >= self.nx || y0 >= self.ny {
             return false;
         }
@@ -316,6 +316,19 @@ impl CellGrid {
         &self.seg_list[self.seg_start[row + x0 as usize] as usize
             ..self.seg_start[row + x1 as usize + 1] as usize]
     }
+}
+
+/// The inclusive cell range `(x0, y0, x1, y1)` of three packed codes (not behind the eye).
+#[inline]
+fn cell_box(codes: [u32; 3]) -> (i32, i32, i32, i32) {
+    let xs = codes.map(|c| (c & 0xffff) as i32 - 1);
+    let ys = codes.map(|c| ((c >> 16) & 0xfff) as i32 - 1);
+    (
+        xs[0].min(xs[1]).min(xs[2]),
+        ys[0].min(ys[1]).min(ys[2]),
+        xs[0].max(xs[1]).max(xs[2]),
+        ys[0].max(ys[1]).max(ys[2]),
+    )
 }
 
 /// Runs of consecutive marked cells along rows, `(row, first, last)`, from `(cell, segment)`
@@ -481,8 +494,9 @@ pub(crate) fn candidate_faces(
                         let i = todo.trailing_zeros() as usize;
                         todo &= todo - 1;
                         let t = &b[3 * i..3 * i + 3];
+                        // The lanes did `any_marked`'s tests up to its scan.
                         if lanes.scan >> i & 1 != 0
-                            && !grid.any_marked([code(t[0]), code(t[1]), code(t[2])])
+                            && !grid.box_marked(cell_box([code(t[0]), code(t[1]), code(t[2])]))
                         {
                             continue;
                         }

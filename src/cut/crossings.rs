@@ -570,6 +570,95 @@ pub(crate) struct Chain {
     pub occ: Vec<u32>,
 }
 
+/// Whether consecutive visits `x` then `y` of face `f` (occurrence indices) make a visit:
+/// stroke joins them through the face's interior.
+#[inline]
+fn joins(region: &Region, line: &Polyline, occ: &[Occ], x: u32, y: u32, f: u32) -> bool {
+    let (ox, oy) = (&occ[x as usize], &occ[y as usize]);
+    // A visit needs stroke between its ends: two elements at one stroke position (a moved
+    // end and another sheet's) are not joined.
+    if !(ox.visible && oy.visible) || ox.elem == oy.elem || key_cmp(ox.key, oy.key).is_eq() {
+        return false;
+    }
+    let j = ox.key.0 + 1;
+    let between = j < oy.key.0 || (j == oy.key.0 && oy.key.1 > 0.0);
+    if !between {
+        // Same segment: the chord lies in the (convex) face, or along one of its edges.
+        return true;
+    }
+    let [a, b, c] = region.face_screen(f);
+    in_triangle(a, b, c, region.sign[f as usize], line.pts[j as usize]) == Some(true)
+}
+
+/// The visits among occurrences `range` as (x, y) links, in order of y then of y's faces,
+/// from `last`, each face's latest occurrence so far (updated). A face met for the first
+/// time here goes to `first` as (face, y) when given.
+fn visits_in(
+    region: &Region,
+    line: &Polyline,
+    occ: &[Occ],
+    range: std::ops::Range<usize>,
+    last: &mut [u32],
+    mut first: Option<&mut Vec<(u32, u32)>>,
+) -> Vec<(u32, u32)> {
+    let mut links = Vec::new();
+    let mut faces = Vec::new();
+    for y in range {
+        let y = y as u32;
+        elem_faces(region, occ[y as usize].elem, &mut faces);
+        for &f in &faces {
+            let x = std::mem::replace(&mut last[f as usize], y);
+            if x == NONE {
+                if let Some(first) = first.as_deref_mut() {
+                    first.push((f, y));
+                }
+            } else if joins(region, line, occ, x, y, f) {
+                links.push((x, y));
+            }
+        }
+    }
+    links
+}
+
+/// The links of consecutive visits of each face among occurrences `range` (positions
+/// ascending), in order of second element: what a sort of (face, position) would put side
+/// by side. A long range's two halves on rayon (this was a third of the serial time of
+/// normalization on spot, through all); a face's first occurrence in the second half then
+/// links to its last in the first, as one pass would have, and those links come between the
+/// halves', so the stable sort by first element orders them as before.
+fn visit_links(
+    region: &Region,
+    line: &Polyline,
+    occ: &[Occ],
+    range: std::ops::Range<usize>,
+) -> Vec<(u32, u32)> {
+    let nf = region.tri.len();
+    if range.len() < 512 {
+        return visits_in(region, line, occ, range, &mut vec![NONE; nf], None);
+    }
+    let mid = range.start + range.len() / 2;
+    let ((last, mut links), (later, first)) = rayon::join(
+        || {
+            let mut last = vec![NONE; nf];
+            let links = visits_in(region, line, occ, range.start..mid, &mut last, None);
+            (last, links)
+        },
+        || {
+            let (mut last, mut first) = (vec![NONE; nf], Vec::new());
+            let links = visits_in(region, line, occ, mid..range.end, &mut last, Some(&mut first));
+            (links, first)
+        },
+    );
+    for (f, y) in first {
+        let x = last[f as usize];
+        if x != NONE && joins(region, line, occ, x, y, f) {
+            links.push((x, y));
+        }
+    }
+    links.extend_from_slice(&later);
+    links
+}
+
 /// Visits of one piece (polyline indices `j0..=j1`) linked into chains.
 pub(crate) fn chains(
     region: &Region,
@@ -580,40 +669,7 @@ pub(crate) fn chains(
 ) -> Vec<Chain> {
     let lo = occ.partition_point(|o| key_cmp(o.key, (j0, 0.0)).is_lt());
     let hi = occ.partition_point(|o| key_cmp(o.key, (j1, 0.0)).is_le());
-    // Consecutive visits of each face, from the last element seen on it (positions come
-    // ascending): the pairs a sort of (face, position) would put side by side.
-    let mut last = vec![NONE; region.tri.len()];
-    let mut links: Vec<(u32, u32)> = Vec::new();
-    let mut faces = Vec::new();
-    for (i, oy) in occ.iter().enumerate().take(hi).skip(lo) {
-        let y = i as u32;
-        elem_faces(region, oy.elem, &mut faces);
-        for &f in &faces {
-            let x = std::mem::replace(&mut last[f as usize], y);
-            if x == NONE {
-                continue;
-            }
-            let ox = &occ[x as usize];
-            // A visit needs stroke between its ends: two elements at one stroke position (a
-            // moved end and another sheet's) are not joined.
-            if !(ox.visible && oy.visible) || ox.elem == oy.elem || key_cmp(ox.key, oy.key).is_eq()
-            {
-                continue;
-            }
-            let j = ox.key.0 + 1;
-            let between = j < oy.key.0 || (j == oy.key.0 && oy.key.1 > 0.0);
-            let linked = if !between {
-                // Same segment: the chord lies in the (convex) face, or along one of its edges.
-                true
-            } else {
-                let [a, b, c] = region.face_screen(f);
-                in_triangle(a, b, c, region.sign[f as usize], line.pts[j as usize]) == Some(true)
-            };
-            if linked {
-                links.push((x, y));
-            }
-        }
-    }
+    let mut links = visit_links(region, line, occ, lo..hi);
     // By first element; each one's links were made with ascending second elements, and the
     // radix sort is stable, so this is the order of the pairs.
     super::radix::sort_by_key(&mut links);

@@ -139,8 +139,6 @@ pub(crate) fn find_occurrences<'b>(
         .iter()
         .map(|&(j0, j1)| Strip::new(pts[j0 as usize], pts[j1 as usize]))
         .collect();
-    let subs =
-        |si: u32, lo: DVec2, hi: DVec2| sub_range(pts, &tpar, seg_range[si as usize], lo, hi);
     // Each vertex's grid cell once (an edge's cell range is its ends' least and greatest).
     let cells: Vec<(i32, i32)> = region
         .seen
@@ -178,10 +176,10 @@ pub(crate) fn find_occurrences<'b>(
                         }
                     };
                     for &si in near {
-                        if strips[si as usize].apart(a, b) {
+                        let Some(w) = strips[si as usize].window(a, b) else {
                             continue;
-                        }
-                        for k in subs(si, a.min(b), a.max(b)) {
+                        };
+                        for k in within(&tpar, seg_range[si as usize], w) {
                             let (p, q) = (pts[k as usize], pts[k as usize + 1]);
                             // Boxes apart: nothing to meet (exact: comparisons only).
                             if p.x.max(q.x) < a.x.min(b.x)
@@ -275,10 +273,10 @@ pub(crate) fn find_occurrences<'b>(
                         None => &[],
                     };
                     for &si in near {
-                        if strips[si as usize].apart(x, x) {
+                        let Some(w) = strips[si as usize].window(x, x) else {
                             continue;
-                        }
-                        for k in subs(si, x, x) {
+                        };
+                        for k in within(&tpar, seg_range[si as usize], w) {
                             let (p, q) = (pts[k as usize], pts[k as usize + 1]);
                             if on_segment(p, q, x) && orient(p, q, x) == 0.0 {
                                 let key = if x == p {
@@ -407,15 +405,58 @@ impl Strip {
         }
     }
 
-    /// Whether `x` and `y` are both on one side of the line, each farther from it than the
-    /// polyline's points can be (rounding of a few ulps of the coordinates, bounded here
-    /// by a millionth of a millionth of them, cross products' own rounding included).
+    /// Where edge `x`-`y` can meet the polyline, as parameters along the segment (0 at its
+    /// start, 1 at its end): those of the edge's points within the polyline's band around
+    /// the line. `None` when both ends are on one side, each farther from the line than the
+    /// polyline's points can be (rounding of a few ulps of the coordinates, bounded here by
+    /// a millionth of a millionth of them, cross products' own rounding included; test
+    /// `inserted_feet_are_never_apart_from_their_segment`). The polyline's points lie between
+    /// the segment's ends, so the band is that bound at the segment's extent, taken twice
+    /// with the edge's coordinates added; an edge nearly parallel to the line gets its whole
+    /// length. The exact tests decide: this only bounds the polyline segments they run on.
     #[inline]
-    fn apart(&self, x: DVec2, y: DVec2) -> bool {
-        let tol = self.unit * (1.0 + self.extent + x.abs().max(y.abs()).max_element());
+    fn window(&self, x: DVec2, y: DVec2) -> Option<(f64, f64)> {
+        let m = x.abs().max(y.abs()).max_element();
+        let tol = self.unit * (1.0 + self.extent + m);
         let (cx, cy) = (self.d.perp_dot(x - self.a), self.d.perp_dot(y - self.a));
-        (cx > tol && cy > tol) || (cx < -tol && cy < -tol)
+        if (cx > tol && cy > tol) || (cx < -tol && cy < -tol) {
+            return None;
+        }
+        let band = 2.0 * self.unit * (1.0 + 2.0 * self.extent + m);
+        let den = cy - cx;
+        // The edge's parameters (0 at x, 1 at y) within the band.
+        let (s0, s1) = if den.abs() > 4.0 * band {
+            let (u, v) = ((-band - cx) / den, (band - cx) / den);
+            (u.min(v).max(0.0), u.max(v).min(1.0))
+        } else {
+            (0.0, 1.0)
+        };
+        let len2 = self.d.length_squared();
+        let (tx, ty) = ((x - self.a).dot(self.d) / len2, (y - self.a).dot(self.d) / len2);
+        let (t0, t1) = (tx + (ty - tx) * s0, tx + (ty - tx) * s1);
+        Some((t0.min(t1), t0.max(t1)))
     }
+}
+
+/// The polyline segments of prepared segment `(j0, j1)` whose parameter span (from
+/// [`along`]) meets `t0..=t1` widened by 1e-9 against rounding: one search for the first,
+/// a scan for the few after it. A window from [`Strip::window`] holds one or two (the
+/// edge's box, which set the span before, held four on average on spot, through all).
+#[inline]
+fn within(tpar: &[f64], (j0, j1): (u32, u32), (t0, t1): (f64, f64)) -> std::ops::Range<u32> {
+    if j1 - j0 <= 3 {
+        return j0..j1;
+    }
+    const EPS: f64 = 1e-9;
+    let ts = &tpar[j0 as usize..j1 as usize];
+    let first = ts.partition_point(|&t| t < t0 - EPS);
+    let mut past = first;
+    while past < ts.len() && ts[past] <= t1 + EPS {
+        past += 1;
+    }
+    // Segment i spans ts[i]..ts[i + 1] (1 for the last): the one before the first start in
+    // the window ends in it.
+    j0 + first.saturating_sub(1) as u32..j0 + past as u32
 }
 
 /// Each polyline point's parameter along its prepared segment (the points a segment snap
@@ -437,39 +478,6 @@ fn along(pts: &[DVec2], seg_range: &[(u32, u32)]) -> Vec<f64> {
         }
     }
     t
-}
-
-/// The polyline segments of prepared segment `(j0, j1)` that can meet the box `lo..hi`: those
-/// whose parameter span overlaps the box's on the prepared segment, with a neighbour each
-/// side for rounding (a superset: the exact tests decide). Few per box where snaps split the
-/// segment many times (a box test each cost more than the rest of the edge loop).
-fn sub_range(
-    pts: &[DVec2],
-    tpar: &[f64],
-    (j0, j1): (u32, u32),
-    lo: DVec2,
-    hi: DVec2,
-) -> std::ops::Range<u32> {
-    if j1 - j0 <= 3 {
-        return j0..j1;
-    }
-    let (p, d) = (pts[j0 as usize], pts[j1 as usize] - pts[j0 as usize]);
-    let (mut t0, mut t1) = (0.0f64, 1.0f64);
-    for (pa, da, l, h) in [(p.x, d.x, lo.x, hi.x), (p.y, d.y, lo.y, hi.y)] {
-        if da != 0.0 {
-            let (u, v) = ((l - pa) / da, (h - pa) / da);
-            t0 = t0.max(u.min(v));
-            t1 = t1.min(u.max(v));
-        }
-    }
-    const EPS: f64 = 1e-9;
-    // Segment j0 + i starts at ts[i] and ends at ts[i + 1] (1 for the last).
-    let ts = &tpar[j0 as usize..j1 as usize];
-    let first = ts.partition_point(|&t| t < t0 - EPS);
-    let past = ts.partition_point(|&t| t <= t1 + EPS);
-    let start = j0 + first.saturating_sub(2) as u32;
-    let end = (j0 + past as u32 + 1).min(j1);
-    start..end.max(start)
 }
 
 /// The edge of face `lf` nearest to `s` if closer than `reach` with its foot strictly inside
@@ -742,11 +750,11 @@ mod tests {
             let strip = Strip::new(a, b);
             let foot = a + (b - a) * rnd();
             let other = DVec2::new(rnd() - 0.5, rnd() - 0.5) * scale * 3.0;
-            assert!(!strip.apart(foot, foot), "{a} {b} {foot}");
-            assert!(!strip.apart(foot, other) && !strip.apart(other, foot));
+            assert!(strip.window(foot, foot).is_some(), "{a} {b} {foot}");
+            assert!(strip.window(foot, other).is_some() && strip.window(other, foot).is_some());
             // A millionth of the segment's length off the line, both on one side: apart.
             let n = (b - a).perp().normalize() * (b - a).length() * 1e-6;
-            assert!(strip.apart(foot + n, a + n) || (b - a).length() < 1e-3 * scale);
+            assert!(strip.window(foot + n, a + n).is_none() || (b - a).length() < 1e-3 * scale);
         }
     }
 }

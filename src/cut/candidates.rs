@@ -91,26 +91,32 @@ impl CellGrid {
         // border).
         debug_assert!(nx + 2 <= 0xffff && ny + 2 <= 0xfff);
         let inv_cell = 1.0 / cell;
-        let mut pairs: Vec<(u32, u32)> = Vec::new();
         let half_diag = cell * std::f64::consts::FRAC_1_SQRT_2;
-        for (si, &(a, b)) in segments.iter().enumerate() {
-            let (smin, smax) = (
-                a.min(b) - DVec2::splat(margin),
-                a.max(b) + DVec2::splat(margin),
-            );
-            let (x0, y0) = cell_of(lo, inv_cell, smin);
-            let (x1, y1) = cell_of(lo, inv_cell, smax);
-            for cy in y0.max(0)..y1.min(ny - 1) + 1 {
-                for cx in x0.max(0)..x1.min(nx - 1) + 1 {
-                    let centre = lo + DVec2::new(cx as f64 + 0.5, cy as f64 + 0.5) * cell;
-                    // Conservative: the cell may hold a point within `margin` of the segment.
-                    if within(centre, a, b, margin + half_diag * 1.0001) {
-                        let c = (cy * nx + cx) as usize;
-                        pairs.push((c as u32, si as u32));
+        // Each segment's cells on rayon, collected in segment order.
+        let mut pairs: Vec<(u32, u32)> = segments
+            .par_iter()
+            .enumerate()
+            .with_min_len(8)
+            .flat_map_iter(|(si, &(a, b))| {
+                let (smin, smax) = (
+                    a.min(b) - DVec2::splat(margin),
+                    a.max(b) + DVec2::splat(margin),
+                );
+                let (x0, y0) = cell_of(lo, inv_cell, smin);
+                let (x1, y1) = cell_of(lo, inv_cell, smax);
+                let mut out = Vec::new();
+                for cy in y0.max(0)..y1.min(ny - 1) + 1 {
+                    for cx in x0.max(0)..x1.min(nx - 1) + 1 {
+                        let centre = lo + DVec2::new(cx as f64 + 0.5, cy as f64 + 0.5) * cell;
+                        // Conservative: the cell may hold a point within `margin` of the segment.
+                        if within(centre, a, b, margin + half_diag * 1.0001) {
+                            out.push(((cy * nx + cx) as u32, si as u32));
+                        }
                     }
                 }
-            }
-        }
+                out
+            })
+            .collect();
         // By cell; each cell's segments stay ascending (pushed in segment order, and the
         // radix sort is stable): a comparison sort of the pairs cost a fifth of the grid.
         super::radix::sort_by_key(&mut pairs);
@@ -119,38 +125,49 @@ impl CellGrid {
         // and row it reaches. The band is thin and mostly along rows, so this writes a few
         // spans where a span per cell wrote thousands. With the outside ring (never near), indexed
         // by code: (cy + 1)·(nx + 2) + cx + 1.
-        let mut near = vec![0u8; ((nx + 2) * (ny + 2)) as usize];
-        let runs = marked_runs(&pairs, nx as u32);
-        for (r, flags) in [
-            (NEAR_RING, NEAR),
-            (MID_RING, NEAR | MID),
-            (CLOSE_RING, NEAR | MID | CLOSE),
-        ] {
-            let r = r as i32;
-            for &(cy, a, b) in &runs {
-                let (x0, x1) = ((a - r).max(0), (b + r).min(nx - 1));
-                for y in (cy - r).max(0)..(cy + r).min(ny - 1) + 1 {
-                    let row = ((y + 1) * (nx + 2) + 1) as usize;
-                    near[row + x0 as usize..=row + x1 as usize].fill(flags);
+        // The near table and the CSR, both from the sorted pairs, side by side.
+        let pairs = &pairs;
+        let (near, seg_start) = rayon::join(
+            || {
+                let mut near = vec![0u8; ((nx + 2) * (ny + 2)) as usize];
+                let runs = marked_runs(pairs, nx as u32);
+                for (r, flags) in [
+                    (NEAR_RING, NEAR),
+                    (MID_RING, NEAR | MID),
+                    (CLOSE_RING, NEAR | MID | CLOSE),
+                ] {
+                    let r = r as i32;
+                    for &(cy, a, b) in &runs {
+                        let (x0, x1) = ((a - r).max(0), (b + r).min(nx - 1));
+                        for y in (cy - r).max(0)..(cy + r).min(ny - 1) + 1 {
+                            let row = ((y + 1) * (nx + 2) + 1) as usize;
+                            near[row + x0 as usize..=row + x1 as usize].fill(flags);
+                        }
+                    }
                 }
-            }
-        }
-        for &(c, _) in &pairs {
-            let (cx, cy) = (c % nx as u32, c / nx as u32);
-            near[((cy + 1) * (nx as u32 + 2) + cx + 1) as usize] |= MARKED;
-        }
-        // CSR over all cells, written as one constant span per stretch between marked cells.
-        let mut seg_start = Vec::with_capacity(ncell + 1);
-        let mut i = 0;
-        while i < pairs.len() {
-            let c = pairs[i].0 as usize;
-            seg_start.resize(c + 1, i as u32);
-            while i < pairs.len() && pairs[i].0 as usize == c {
-                i += 1;
-            }
-        }
-        seg_start.resize(ncell + 1, i as u32);
-        let seg_list = pairs.into_iter().map(|(_, s)| s).collect();
+                for &(c, _) in pairs {
+                    let (cx, cy) = (c % nx as u32, c / nx as u32);
+                    near[((cy + 1) * (nx as u32 + 2) + cx + 1) as usize] |= MARKED;
+                }
+                near
+            },
+            || {
+                // CSR over all cells, written as one constant span per stretch between marked
+                // cells.
+                let mut seg_start = Vec::with_capacity(ncell + 1);
+                let mut i = 0;
+                while i < pairs.len() {
+                    let c = pairs[i].0 as usize;
+                    seg_start.resize(c + 1, i as u32);
+                    while i < pairs.len() && pairs[i].0 as usize == c {
+                        i += 1;
+                    }
+                }
+                seg_start.resize(ncell + 1, i as u32);
+                seg_start
+            },
+        );
+        let seg_list = pairs.iter().map(|&(_, s)| s).collect();
         CellGrid {
             origin: lo,
             cell,

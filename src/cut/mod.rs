@@ -75,6 +75,7 @@ mod locate;
 mod normalize;
 mod open;
 mod options;
+mod ordered;
 mod radix;
 mod region;
 mod report;
@@ -101,9 +102,7 @@ use crossings::{Elem, Occ};
 use region::{Region, NONE};
 use visibility::Before;
 
-use std::panic::AssertUnwindSafe;
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::OnceLock;
 
 /// Cuts `mesh` along `stroke` drawn over `view` (seed 002; spec §4). Never changes `mesh`.
 ///
@@ -369,30 +368,11 @@ fn plan<'a>(
         }
         // Runs are normalized apart (read-only) on rayon and placed in order, each as soon
         // as it is ready: this thread places one run while the pool normalizes the next.
-        // A slot holds `None` when its job panicked (caught, so this thread stops waiting
-        // and panics in turn instead of spinning for ever).
-        let slots: Vec<OnceLock<Option<Vec<normalize::Normalized>>>> =
-            runs.iter().map(|_| OnceLock::new()).collect();
-        rayon::scope(|s| {
-            // Spawned last to first: this thread takes its newest job, the first run, and an
-            // idle worker steals the oldest, the last.
-            for (run, slot) in runs.iter().zip(&slots).rev() {
-                let (region, occ) = (&region, &occ);
-                s.spawn(move |_| {
-                    let job = || normalize::normalize(region, occ, run);
-                    let _ = slot.set(std::panic::catch_unwind(AssertUnwindSafe(job)).ok());
-                });
-            }
-            for slot in &slots {
-                let nzs = loop {
-                    if let Some(n) = slot.get() {
-                        break n.as_ref().expect("normalizing a run panicked");
-                    }
-                    // Normalize a run meanwhile, or wait for the worker doing this one.
-                    if rayon::yield_now() != Some(rayon::Yield::Executed) {
-                        std::hint::spin_loop();
-                    }
-                };
+        let (region, occ) = (&region, &occ);
+        ordered::in_order(
+            runs.len(),
+            |r| normalize::normalize(region, occ, &runs[r]),
+            |_, nzs| {
                 for nz in nzs {
                     let mut verts: Vec<u32> = Vec::with_capacity(nz.occ.len());
                     let mut faces = Vec::with_capacity(nz.faces.len());
@@ -416,8 +396,8 @@ fn plan<'a>(
                         });
                     }
                 }
-            }
-        });
+            },
+        );
     }
     let split_count = sp.new_pos.len();
     trace.mark("normalize");

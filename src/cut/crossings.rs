@@ -155,8 +155,8 @@ pub(crate) fn find_occurrences<'b>(
             .par_chunks(256)
             .enumerate()
             .map(|(ci, chunk)| {
-                let mut occ: Vec<Occ> = Vec::new();
-                let mut near: Vec<u32> = Vec::new();
+                let mut occ: Vec<Occ> = Vec::with_capacity(64);
+                let mut near: Vec<u32> = Vec::with_capacity(16);
                 for (i, &[ia, ib]) in chunk.iter().enumerate() {
                     let e = ci * 256 + i;
                     let ef = region.edge_faces[e];
@@ -261,7 +261,7 @@ pub(crate) fn find_occurrences<'b>(
             .into_par_iter()
             .chunks(256)
             .map(|chunk| {
-                let mut occ: Vec<Occ> = Vec::new();
+                let mut occ: Vec<Occ> = Vec::with_capacity(64);
                 for v in chunk {
                     let faces = region.vertex_faces(v);
                     if !faces.iter().any(|&f| region.cuttable[f as usize]) {
@@ -614,7 +614,7 @@ fn visits_in(
     last: &mut [u32],
     mut first: Option<&mut Vec<(u32, u32)>>,
 ) -> Vec<(u32, u32)> {
-    let mut links = Vec::new();
+    let mut links = Vec::with_capacity(range.len());
     let mut faces = Vec::new();
     for y in range {
         let y = y as u32;
@@ -657,7 +657,7 @@ fn visit_links(
             (last, links)
         },
         || {
-            let (mut last, mut first) = (vec![NONE; nf], Vec::new());
+            let (mut last, mut first) = (vec![NONE; nf], Vec::with_capacity(range.len() / 2));
             let links = visits_in(
                 region,
                 line,
@@ -716,7 +716,8 @@ pub(crate) fn chains(
         if used[start] || through(links[start].0) {
             continue;
         }
-        let mut chain = vec![links[start].0];
+        let mut chain = Vec::with_capacity(64);
+        chain.push(links[start].0);
         let mut l = start;
         loop {
             used[l] = true;

@@ -53,7 +53,7 @@ impl PointFaces {
         let mut pts: Vec<DVec2> = points.into_iter().collect();
         pts.sort_by(|a, b| a.x.total_cmp(&b.x).then(a.y.total_cmp(&b.y)));
         pts.dedup();
-        let mut pairs: Vec<(u32, u32)> = Vec::new();
+        let mut pairs: Vec<(u32, u32)> = Vec::with_capacity(8 * pts.len());
         if let (Some(first), Some(last)) = (pts.first(), pts.last()) {
             // Columns over the points' x range, marked where a point is: most faces are
             // rejected by a bit or two (a binary search per face mispredicted its way to

@@ -450,10 +450,13 @@ fn plan<'a>(
         p.verts = verts;
         p.faces = faces;
     }
-    let mut cut_edges: Vec<(u32, u32)> = paths
-        .iter()
-        .flat_map(|p| p.verts.windows(2).map(|w| (w[0].min(w[1]), w[0].max(w[1]))))
-        .collect();
+    let mut cut_edges: Vec<(u32, u32)> =
+        Vec::with_capacity(paths.iter().map(|p| p.verts.len()).sum());
+    cut_edges.extend(
+        paths
+            .iter()
+            .flat_map(|p| p.verts.windows(2).map(|w| (w[0].min(w[1]), w[0].max(w[1])))),
+    );
     cut_edges.sort_unstable();
     cut_edges.dedup();
     trace.mark("route");
@@ -497,7 +500,7 @@ fn plan<'a>(
     let mut touched = sp.touched.clone();
     touched.sort_unstable();
     let mut rewritten_faces = Vec::with_capacity(touched.len());
-    let mut appended_faces = Vec::new();
+    let mut appended_faces = Vec::with_capacity(2 * touched.len());
     for &lf in &touched {
         let subs = sp.pieces_of(lf).expect("touched");
         let slot = FaceId(region.faces[lf as usize]);
@@ -505,7 +508,13 @@ fn plan<'a>(
         appended_faces.extend(subs[1..].iter().map(|t| (to_global(t), slot)));
     }
     rewritten_faces.sort_unstable_by_key(|x| x.0);
-    let (mut split_ends, mut split_start, mut split_on) = (Vec::new(), vec![0u32], Vec::new());
+    let n_split = sp.new_pos.len();
+    let (mut split_ends, mut split_start, mut split_on) = (
+        Vec::with_capacity(n_split),
+        Vec::with_capacity(n_split + 1),
+        Vec::with_capacity(n_split),
+    );
+    split_start.push(0u32);
     for (e, &[u, w]) in region.edges.iter().enumerate() {
         let on = sp.edge_vertices(e as u32);
         if !on.is_empty() {

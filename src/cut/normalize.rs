@@ -45,7 +45,8 @@ fn collapse(region: &Region, occ: &[Occ], a: &mut Vec<u32>) {
         k = j;
     }
     let ends_of = |e: u32, v: u32| region.edges[e as usize].contains(&v);
-    let idx: Vec<usize> = (0..n).filter(|&i| keep[i]).collect();
+    let mut idx: Vec<usize> = Vec::with_capacity(n);
+    idx.extend((0..n).filter(|&i| keep[i]));
     for (p, &i) in idx.iter().enumerate() {
         if i == 0 || i == n - 1 {
             continue;
@@ -179,8 +180,8 @@ pub(crate) fn normalize(region: &Region, occ: &[Occ], chain: &[u32]) -> Vec<Norm
     }
     let mut out = Vec::new();
     let mut cur = Normalized {
-        occ: Vec::new(),
-        faces: Vec::new(),
+        occ: Vec::with_capacity(a.len()),
+        faces: Vec::with_capacity(a.len()),
     };
     let (mut fx, mut fy) = (Vec::new(), Vec::new());
     for (k, &o) in a.iter().enumerate() {

@@ -236,7 +236,7 @@ fn mean_edge_length(
     // Edges met so far, listed at their smaller end (a vertex has a few): cheaper than
     // hashing every corner's edge.
     let mut head = vec![NONE; pos.len()];
-    let mut link: Vec<(u32, u32)> = Vec::new();
+    let mut link: Vec<(u32, u32)> = Vec::with_capacity(tri.len());
     let mut first_use = |u: u32, v: u32| {
         let (a, b) = (u.min(v), u.max(v));
         let mut k = head[a as usize];
@@ -496,7 +496,7 @@ fn local_ids(corners: &[[u32; 3]], nv: usize) -> (Vec<u32>, Vec<[u32; 3]>) {
         mark(v);
     }
     let mut below = Vec::with_capacity(bits.len());
-    let mut verts = Vec::new();
+    let mut verts = Vec::with_capacity(flat.len() / 2);
     for (w, &word) in bits.iter().enumerate() {
         below.push(verts.len() as u32);
         let mut x = word;
@@ -557,6 +557,8 @@ fn edge_table(
     let (mut edges, mut edge_faces) = lo?;
     let (e2, ef2) = hi?;
     let offset = edges.len() as u32;
+    edges.reserve_exact(e2.len());
+    edge_faces.reserve_exact(ef2.len());
     edges.extend_from_slice(&e2);
     edge_faces.extend_from_slice(&ef2);
     let face_edges = corner_edge

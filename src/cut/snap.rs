@@ -54,7 +54,7 @@ pub(crate) fn snap(
     let min_area2 = 2e-12 * l * l;
     let mut taken = vec![false; n];
     let mut snapped = vec![false; region.verts.len()];
-    let mut moves = Vec::new();
+    let mut moves = Vec::with_capacity(region.verts.len() / 4);
     let mut refused_any = vec![false; region.verts.len()];
 
     // Nearby segments of a screen point, from its grid cell (the margin covers max(rv, rs)).
@@ -149,7 +149,7 @@ pub(crate) fn snap(
         .map(|(i, f)| (f.0.to_bits() as u128) << 64 | (f.1 as u128) << 32 | i as u128)
         .collect();
     keys.sort_unstable();
-    let mut inserted: Vec<(u32, f64, DVec2)> = Vec::new();
+    let mut inserted: Vec<(u32, f64, DVec2)> = Vec::with_capacity(feet.len());
     for &(_, v, si, t, q) in keys.iter().map(|&k| &feet[k as u32 as usize]) {
         if guard(region, v, q, min_area2) {
             moves.push(apply(region, proj, v, q));

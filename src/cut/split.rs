@@ -35,7 +35,7 @@ impl<T> Pool<T> {
     fn new(n: usize) -> Self {
         Pool {
             slot: vec![NONE; n],
-            items: Vec::new(),
+            items: Vec::with_capacity(n / 4),
         }
     }
 
@@ -81,10 +81,10 @@ impl<'r> Splitter<'r> {
     pub fn new(r: &'r Region, l_px: f64) -> Self {
         Splitter {
             r,
-            new_pos: Vec::new(),
-            new_screen: Vec::new(),
+            new_pos: Vec::with_capacity(r.edges.len() / 8),
+            new_screen: Vec::with_capacity(r.edges.len() / 8),
             pieces: Pool::new(r.tri.len()),
-            touched: Vec::new(),
+            touched: Vec::with_capacity(r.tri.len() / 2),
             on_edge: Pool::new(r.edges.len()),
             placed_e: Pool::new(r.edges.len()),
             placed: FxHashMap::default(),

@@ -515,8 +515,8 @@ pub(crate) fn candidate_faces(
             };
             // Blocks of faces rejected together: one branch per block, not per face, took
             // a quarter off this pass; a block with a face near the stroke is gone through
-            // again face by face (few are: faces near each other in the mesh are mostly near
-            // each other in the face order too).
+            // again lane by lane or face by face (few are: faces near each other in the mesh
+            // are mostly near each other in the face order too).
             for (bi, block) in chunk.chunks(3 * BLOCK).enumerate() {
                 // The corner stream asked for 16 blocks (3 KiB) ahead: the hardware's stream
                 // prefetch alone left this pass waiting on it (torus −4% to −10%, spot equal,

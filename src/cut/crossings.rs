@@ -392,6 +392,7 @@ struct Strip {
     /// `1e-12 · |d|`, and the largest coordinate of the segment's ends.
     unit: f64,
     extent: f64,
+    /// `1 / |d|²`, so a window costs one division.
     inv_len2: f64,
 }
 

@@ -35,6 +35,8 @@ impl<T> Pool<T> {
     fn new(n: usize) -> Self {
         Pool {
             slot: vec![NONE; n],
+            // Room for a quarter of the keys: grown from nothing, the items were reallocated
+            // and copied a dozen times.
             items: Vec::with_capacity(n / 4),
         }
     }
@@ -81,6 +83,7 @@ impl<'r> Splitter<'r> {
     pub fn new(r: &'r Region, l_px: f64) -> Self {
         Splitter {
             r,
+            // Sized for a usual cut (about one edge in eight split, half the faces touched).
             new_pos: Vec::with_capacity(r.edges.len() / 8),
             new_screen: Vec::with_capacity(r.edges.len() / 8),
             pieces: Pool::new(r.tri.len()),

@@ -530,12 +530,14 @@ pub(crate) fn candidate_faces(
                 if let (true, Ok(b)) = (wide, <&[VertexId; 3 * BLOCK]>::try_from(block)) {
                     // SAFETY: AVX-512 F is there; a PolyMesh's corners name its vertices, and
                     // there are at most i32::MAX of them (`wide`).
-                    if !unsafe { super::faces_simd::block_not_away(as_ids(b), codes) } {
+                    let corners = unsafe { super::faces_simd::gather(as_ids(b), codes) };
+                    // SAFETY: as above (the CPU has AVX-512 F).
+                    if !unsafe { super::faces_simd::block_not_away(&corners) } {
                         continue;
                     }
                     reserve(&mut keep);
-                    // SAFETY: as above.
-                    let lanes = unsafe { super::faces_simd::near_block(as_ids(b), codes) };
+                    // SAFETY: as above; the near block's faces from the same gathers.
+                    let lanes = unsafe { super::faces_simd::near_block(&corners) };
                     let mut todo = lanes.keep | lanes.scan;
                     while todo != 0 {
                         let i = todo.trailing_zeros() as usize;
@@ -949,9 +951,11 @@ mod tests {
                 }
             }
             // SAFETY: AVX-512 F checked; every id names a code.
-            let lanes = unsafe { super::super::faces_simd::near_block(&block, &codes) };
+            let corners = unsafe { super::super::faces_simd::gather(&block, &codes) };
             // SAFETY: as above.
-            let whole = unsafe { super::super::faces_simd::block_not_away(&block, &codes) };
+            let lanes = unsafe { super::super::faces_simd::near_block(&corners) };
+            // SAFETY: as above.
+            let whole = unsafe { super::super::faces_simd::block_not_away(&corners) };
             let any_face = block.chunks_exact(3).any(|f| {
                 super::not_away([
                     codes[f[0] as usize],

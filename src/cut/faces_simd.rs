@@ -29,15 +29,20 @@ pub(crate) struct Lanes {
     pub straddles: u16,
 }
 
-/// Whether some face of `block` is not surely away from the marked cells (the block test's
-/// [`not_away`](super::candidates) on all 16 faces at once): three gathers and a few lane
-/// operations where the face-by-face fold took 48 loads and some 150 instructions.
+/// The codes of the three corners of a block's 16 faces, lane i for face i ([`gather`]):
+/// what the block test and the near blocks' classifier both read.
+#[derive(Clone, Copy)]
+pub(crate) struct Corners([__m512i; 3]);
+
+/// Whether some face of the block is not surely away from the marked cells (the block
+/// test's [`not_away`](super::candidates) on all 16 faces at once): a few lane operations on
+/// three gathers where the face-by-face fold took 48 loads and some 150 instructions.
 ///
 /// # Safety
-/// As [`near_block`].
+/// The CPU has AVX-512 F.
 #[target_feature(enable = "avx512f")]
-pub(crate) unsafe fn block_not_away(block: &[u32; 48], codes: &[u32]) -> bool {
-    let (c0, c1, c2) = gather_corners(block, codes);
+pub(crate) unsafe fn block_not_away(c: &Corners) -> bool {
+    let [c0, c1, c2] = c.0;
     not_away(c0, c1, c2) != 0
 }
 
@@ -52,14 +57,15 @@ fn not_away(c0: __m512i, c1: __m512i, c2: __m512i) -> u16 {
     _mm512_test_epi32_mask(spread, set(0xfff8_fff8)) | _mm512_test_epi32_mask(any, set(1 << 31))
 }
 
-/// The codes of the three corners of the 16 faces whose corners are `block`, lane i for
-/// face i.
+/// The corners' codes of the 16 faces whose corners are `block` (vertex ids, three a face).
 ///
 /// # Safety
-/// As [`near_block`].
+/// The CPU has AVX-512 F; every id in `block` is below `codes.len()`, which is at most
+/// `i32::MAX` (the gathers' offsets are signed).
 #[target_feature(enable = "avx512f")]
-#[inline]
-unsafe fn gather_corners(block: &[u32; 48], codes: &[u32]) -> (__m512i, __m512i, __m512i) {
+pub(crate) unsafe fn gather(block: &[u32; 48], codes: &[u32]) -> Corners {
+    debug_assert!(codes.len() <= i32::MAX as usize);
+    debug_assert!(block.iter().all(|&v| (v as usize) < codes.len()));
     let lanes = |a: [i32; 16]| {
         _mm512_setr_epi32(
             a[0], a[1], a[2], a[3], a[4], a[5], a[6], a[7], a[8], a[9], a[10], a[11], a[12], a[13],
@@ -87,25 +93,21 @@ unsafe fn gather_corners(block: &[u32; 48], codes: &[u32]) -> (__m512i, __m512i,
     let ids = |a, b| _mm512_permutex2var_epi32(_mm512_permutex2var_epi32(u, a, v), b, w);
     let base = codes.as_ptr() as *const i32;
     let gather = |ix| _mm512_i32gather_epi32::<4>(ix, base);
-    (
+    Corners([
         gather(ids(a0, b0)),
         gather(ids(a1, b1)),
         gather(ids(a2, b2)),
-    )
+    ])
 }
 
-/// Classifies the 16 faces whose corners are `block` (vertex ids, three a face) from their
-/// vertices' `codes`.
+/// Classifies a block's 16 faces from their corners' codes ([`gather`]).
 ///
 /// # Safety
-/// The CPU has AVX-512 F; every id in `block` is below `codes.len()`, which is at most
-/// `i32::MAX` (the gathers' offsets are signed).
+/// The CPU has AVX-512 F.
 #[target_feature(enable = "avx512f")]
-pub(crate) unsafe fn near_block(block: &[u32; 48], codes: &[u32]) -> Lanes {
-    debug_assert!(codes.len() <= i32::MAX as usize);
-    debug_assert!(block.iter().all(|&v| (v as usize) < codes.len()));
+pub(crate) unsafe fn near_block(c: &Corners) -> Lanes {
     let set = |v: u32| _mm512_set1_epi32(v as i32);
-    let (c0, c1, c2) = gather_corners(block, codes);
+    let [c0, c1, c2] = c.0;
 
     let not_away = not_away(c0, c1, c2);
     let any = _mm512_or_si512(c0, _mm512_or_si512(c1, c2));

@@ -341,11 +341,6 @@ fn plan<'a>(
     let mut sp = split::Splitter::new(&region, l_px);
     let mut in_chain = vec![false; occ.len()];
     let mut in_final = vec![false; occ.len()];
-    struct LocalPath {
-        piece: u32,
-        verts: Vec<u32>,
-        faces: Vec<u32>,
-    }
     let mut paths: Vec<LocalPath> = Vec::new();
     for (pi, &(j0, j1)) in pieces.iter().enumerate() {
         // Chains of one piece that follow each other along the stroke are normalized as one
@@ -460,7 +455,42 @@ fn plan<'a>(
     cut_edges.sort_unstable();
     cut_edges.dedup();
     trace.mark("route");
-    sp.improve(&|a, b| cut_edges.binary_search(&(a.min(b), a.max(b))).is_ok());
+
+    // The report's parts that do not read the splitter, beside the flips (which only change
+    // the pieces of split faces): output ids are the region's mesh ids, new vertices after.
+    let nv_in = tm.vertex_count();
+    let n0 = region.verts.len() as u32;
+    let gid = |lv: u32| {
+        VertexId(if lv < n0 {
+            region.verts[lv as usize]
+        } else {
+            nv_in + lv - n0
+        })
+    };
+    let ((), mut report) = rayon::join(
+        || sp.improve(&|a, b| cut_edges.binary_search(&(a.min(b), a.max(b))).is_ok()),
+        || {
+            report_parts(
+                &prep,
+                line,
+                &snapped,
+                &paths,
+                artificial,
+                &unjoined,
+                &rerouted,
+                &ends_moved,
+                &clipped,
+                &length,
+                &tris,
+                &occ,
+                &in_chain,
+                &in_final,
+                &region,
+                &locate,
+                &gid,
+            )
+        },
+    );
 
     trace.mark("improve");
     let split_faces = sp
@@ -484,138 +514,49 @@ fn plan<'a>(
         Vec::new()
     };
 
-    // The edits, in output ids: region vertices keep their mesh ids, new ones follow.
-    let nv_in = tm.vertex_count();
-    let n0 = region.verts.len() as u32;
-    let global: Vec<u32> = (0..n0 + sp.new_pos.len() as u32)
-        .map(|lv| {
-            if lv < n0 {
-                region.verts[lv as usize]
-            } else {
-                nv_in + lv - n0
+    // The edits, in output ids; the faces beside the split edges' lists.
+    let spr = &sp;
+    let ((rewritten_faces, appended_faces), (split_ends, split_start, split_on)) = rayon::join(
+        || {
+            let to_global = |t: &[u32; 3]| geom::map3(*t, gid);
+            let mut touched = spr.touched.clone();
+            touched.sort_unstable();
+            let mut rewritten_faces = Vec::with_capacity(touched.len());
+            let mut appended_faces = Vec::with_capacity(2 * touched.len());
+            for &lf in &touched {
+                let subs = spr.pieces_of(lf).expect("touched");
+                let slot = FaceId(region.faces[lf as usize]);
+                rewritten_faces.push((slot, to_global(&subs[0])));
+                appended_faces.extend(subs[1..].iter().map(|t| (to_global(t), slot)));
             }
-        })
-        .collect();
-    let to_global = |t: &[u32; 3]| geom::map3(*t, |v| VertexId(global[v as usize]));
-    let mut touched = sp.touched.clone();
-    touched.sort_unstable();
-    let mut rewritten_faces = Vec::with_capacity(touched.len());
-    let mut appended_faces = Vec::with_capacity(2 * touched.len());
-    for &lf in &touched {
-        let subs = sp.pieces_of(lf).expect("touched");
-        let slot = FaceId(region.faces[lf as usize]);
-        rewritten_faces.push((slot, to_global(&subs[0])));
-        appended_faces.extend(subs[1..].iter().map(|t| (to_global(t), slot)));
-    }
-    rewritten_faces.sort_unstable_by_key(|x| x.0);
-    let n_split = sp.new_pos.len();
-    let (mut split_ends, mut split_start, mut split_on) = (
-        Vec::with_capacity(n_split),
-        Vec::with_capacity(n_split + 1),
-        Vec::with_capacity(n_split),
+            rewritten_faces.sort_unstable_by_key(|x| x.0);
+            (rewritten_faces, appended_faces)
+        },
+        || {
+            let n_split = spr.new_pos.len();
+            let (mut split_ends, mut split_start, mut split_on) = (
+                Vec::with_capacity(n_split),
+                Vec::with_capacity(n_split + 1),
+                Vec::with_capacity(n_split),
+            );
+            split_start.push(0u32);
+            for (e, &[u, w]) in region.edges.iter().enumerate() {
+                let on = spr.edge_vertices(e as u32);
+                if !on.is_empty() {
+                    split_ends.push((gid(u), gid(w)));
+                    split_on.extend(on.iter().map(|&(_, m)| gid(m)));
+                    split_start.push(split_on.len() as u32);
+                }
+            }
+            (split_ends, split_start, split_on)
+        },
     );
-    split_start.push(0u32);
-    for (e, &[u, w]) in region.edges.iter().enumerate() {
-        let on = sp.edge_vertices(e as u32);
-        if !on.is_empty() {
-            split_ends.push((VertexId(global[u as usize]), VertexId(global[w as usize])));
-            split_on.extend(on.iter().map(|&(_, m)| VertexId(global[m as usize])));
-            split_start.push(split_on.len() as u32);
-        }
-    }
-
-    // The report.
-    let gid = |lv: u32| VertexId(global[lv as usize]);
-    let mut report = CutReport {
-        pieces: pieces.len() as u32,
-        new_vertices: sp.new_pos.len() as u32,
-        new_faces: appended_faces.len() as u32,
-        split_faces,
-        mean_edge_length_px: l_px,
-        mean_edge_length_world: l_world,
-        ..Default::default()
-    };
-    report.moved = snapped
-        .moves
-        .iter()
-        .map(|&(lv, from, to, pixels)| VertexMove {
-            vertex: gid(lv),
-            from,
-            to,
-            pixels,
-        })
-        .collect();
-    report.moved.sort_by_key(|m| m.vertex);
-    report.max_move_world = report
-        .moved
-        .iter()
-        .map(|m| (m.to - m.from).length())
-        .fold(0.0, f64::max);
-    report.max_move_px = report.moved.iter().map(|m| m.pixels).fold(0.0, f64::max);
-    report.snaps_refused = snapped.refused.iter().map(|&v| gid(v)).collect();
-    report.snaps_refused.sort_unstable();
-    report.paths = paths
-        .iter()
-        .map(|p| {
-            let mut vertices: Vec<VertexId> = p.verts.iter().map(|&v| gid(v)).collect();
-            let closed = vertices.len() > 2 && vertices.first() == vertices.last();
-            if closed {
-                vertices.pop();
-            }
-            CutPath {
-                piece: p.piece,
-                vertices,
-                closed,
-            }
-        })
-        .collect();
-    if artificial
-        && report.paths.len() == 2
-        && report.paths[0].piece == 0
-        && report.paths[1].piece == 1
-    {
-        let (a, b) = (&report.paths[0].vertices, &report.paths[1].vertices);
-        // Joined, the halves must enclose something: at least three distinct vertices.
-        let distinct = {
-            let mut v: Vec<VertexId> = a.iter().chain(b.iter()).copied().collect();
-            v.sort_unstable();
-            v.dedup();
-            v.len()
-        };
-        if a.last() == b.first() && b.last() == a.first() && distinct >= 3 {
-            let mut joined = a.clone();
-            joined.extend_from_slice(&b[1..b.len() - 1]);
-            report.paths = vec![CutPath {
-                piece: 0,
-                vertices: joined,
-                closed: true,
-            }];
-        }
-    }
-    report.unjoined = unjoined
-        .iter()
-        .map(|&(p, u, w)| (p, gid(u), gid(w)))
-        .collect();
-    report.ends_moved_to_edges = ends_moved
-        .iter()
-        .filter_map(|&j| line.src[j as usize].map(|k| prep.input_index[k as usize]))
-        .collect();
-    report.ends_moved_to_edges.sort_unstable();
-    report.ends_moved_to_edges.dedup();
-    report.rerouted = rerouted
-        .iter()
-        .map(|&(p, u, w)| (p, gid(u), gid(w)))
-        .collect();
-    let tri_face = |t: u32| match &tris.origin {
-        Some(o) => o[t as usize],
-        None => FaceId(t),
-    };
-    report.clipped_faces = clipped.iter().map(|&t| tri_face(t)).collect();
-    report.clipped_faces.dedup();
-    report.degenerate_faces = length.degenerate_met.iter().map(|&t| tri_face(t)).collect();
-    report.degenerate_faces.sort_unstable();
-    report.degenerate_faces.dedup();
-    report.dropped = dropped_points(&prep, line, &occ, &in_chain, &in_final, &region, &locate);
+    report.pieces = pieces.len() as u32;
+    report.new_vertices = sp.new_pos.len() as u32;
+    report.new_faces = appended_faces.len() as u32;
+    report.split_faces = split_faces;
+    report.mean_edge_length_px = l_px;
+    report.mean_edge_length_world = l_world;
     let edits = CutEdits {
         input_vertex_count: mesh.vertex_count(),
         input_triangle_count: tm.face_count(),
@@ -627,7 +568,7 @@ fn plan<'a>(
         split_on,
         report,
         first_copy: nv_in + split_count as u32,
-        copy_of: copies_of.iter().map(|&lv| global[lv as usize]).collect(),
+        copy_of: copies_of.iter().map(|&lv| gid(lv).0).collect(),
     };
     drop(sp);
     trace.mark("edits");
@@ -652,6 +593,126 @@ fn middle_point(line: &snap::Polyline) -> u32 {
     pick(&|i| line.on_vertex[i] && (acc[i] - half).abs() < half / 2.0)
         .or_else(|| pick(&|_| true))
         .unwrap_or(1) as u32
+}
+
+/// A cut path in local ids: the piece it cuts, its vertices, and the face of each step
+/// (`NONE` along an edge).
+struct LocalPath {
+    piece: u32,
+    verts: Vec<u32>,
+    faces: Vec<u32>,
+}
+
+/// The parts of the report that do not read the splitter ([`plan`] builds them beside the
+/// flips); `gid` maps local vertices to output ids.
+#[allow(clippy::too_many_arguments)]
+fn report_parts(
+    prep: &stroke::Prepared,
+    line: &snap::Polyline,
+    snapped: &snap::Snapped,
+    paths: &[LocalPath],
+    artificial: bool,
+    unjoined: &[(u32, u32, u32)],
+    rerouted: &[(u32, u32, u32)],
+    ends_moved: &[u32],
+    clipped: &[u32],
+    length: &region::EdgeLength,
+    tris: &triangulate::Triangles<'_>,
+    occ: &[Occ],
+    in_chain: &[bool],
+    in_final: &[bool],
+    region: &Region,
+    locate: &locate::Locator,
+    gid: &(dyn Fn(u32) -> VertexId + Sync),
+) -> CutReport {
+    let mut moved: Vec<VertexMove> = snapped
+        .moves
+        .iter()
+        .map(|&(lv, from, to, pixels)| VertexMove {
+            vertex: gid(lv),
+            from,
+            to,
+            pixels,
+        })
+        .collect();
+    moved.sort_by_key(|m| m.vertex);
+    let max_move_world = moved
+        .iter()
+        .map(|m| (m.to - m.from).length())
+        .fold(0.0, f64::max);
+    let max_move_px = moved.iter().map(|m| m.pixels).fold(0.0, f64::max);
+    let mut snaps_refused: Vec<VertexId> = snapped.refused.iter().map(|&v| gid(v)).collect();
+    snaps_refused.sort_unstable();
+    let mut paths: Vec<CutPath> = paths
+        .iter()
+        .map(|p| {
+            let mut vertices: Vec<VertexId> = p.verts.iter().map(|&v| gid(v)).collect();
+            let closed = vertices.len() > 2 && vertices.first() == vertices.last();
+            if closed {
+                vertices.pop();
+            }
+            CutPath {
+                piece: p.piece,
+                vertices,
+                closed,
+            }
+        })
+        .collect();
+    if artificial && paths.len() == 2 && paths[0].piece == 0 && paths[1].piece == 1 {
+        let (a, b) = (&paths[0].vertices, &paths[1].vertices);
+        // Joined, the halves must enclose something: at least three distinct vertices.
+        let distinct = {
+            let mut v: Vec<VertexId> = a.iter().chain(b.iter()).copied().collect();
+            v.sort_unstable();
+            v.dedup();
+            v.len()
+        };
+        if a.last() == b.first() && b.last() == a.first() && distinct >= 3 {
+            let mut joined = a.clone();
+            joined.extend_from_slice(&b[1..b.len() - 1]);
+            paths = vec![CutPath {
+                piece: 0,
+                vertices: joined,
+                closed: true,
+            }];
+        }
+    }
+    let mut ends_moved_to_edges: Vec<u32> = ends_moved
+        .iter()
+        .filter_map(|&j| line.src[j as usize].map(|k| prep.input_index[k as usize]))
+        .collect();
+    ends_moved_to_edges.sort_unstable();
+    ends_moved_to_edges.dedup();
+    let tri_face = |t: u32| match &tris.origin {
+        Some(o) => o[t as usize],
+        None => FaceId(t),
+    };
+    let mut clipped_faces: Vec<FaceId> = clipped.iter().map(|&t| tri_face(t)).collect();
+    clipped_faces.dedup();
+    let mut degenerate_faces: Vec<FaceId> =
+        length.degenerate_met.iter().map(|&t| tri_face(t)).collect();
+    degenerate_faces.sort_unstable();
+    degenerate_faces.dedup();
+    CutReport {
+        moved,
+        max_move_world,
+        max_move_px,
+        snaps_refused,
+        paths,
+        unjoined: unjoined
+            .iter()
+            .map(|&(p, u, w)| (p, gid(u), gid(w)))
+            .collect(),
+        ends_moved_to_edges,
+        rerouted: rerouted
+            .iter()
+            .map(|&(p, u, w)| (p, gid(u), gid(w)))
+            .collect(),
+        clipped_faces,
+        degenerate_faces,
+        dropped: dropped_points(prep, line, occ, in_chain, in_final, region, locate),
+        ..Default::default()
+    }
 }
 
 /// The local edge joining two region vertices, if any.

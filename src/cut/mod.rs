@@ -467,7 +467,7 @@ fn plan<'a>(
             nv_in + lv - n0
         })
     };
-    let ((), mut report) = rayon::join(
+    let ((), report) = rayon::join(
         || sp.improve(&|a, b| cut_edges.binary_search(&(a.min(b), a.max(b))).is_ok()),
         || {
             report_parts(
@@ -551,12 +551,15 @@ fn plan<'a>(
             (split_ends, split_start, split_on)
         },
     );
-    report.pieces = pieces.len() as u32;
-    report.new_vertices = sp.new_pos.len() as u32;
-    report.new_faces = appended_faces.len() as u32;
-    report.split_faces = split_faces;
-    report.mean_edge_length_px = l_px;
-    report.mean_edge_length_world = l_world;
+    let report = CutReport {
+        pieces: pieces.len() as u32,
+        new_vertices: sp.new_pos.len() as u32,
+        new_faces: appended_faces.len() as u32,
+        split_faces,
+        mean_edge_length_px: l_px,
+        mean_edge_length_world: l_world,
+        ..report
+    };
     let edits = CutEdits {
         input_vertex_count: mesh.vertex_count(),
         input_triangle_count: tm.face_count(),

@@ -54,9 +54,72 @@ pub(crate) struct CellGrid {
     /// a ring touches a marked cell only if it spans more cells than the ring is wide (its
     /// corners are then not all within the ring's width of the marked one).
     near: Vec<u8>,
-    /// CSR: segments within the margin of cell `c` are `seg_list[seg_start[c]..seg_start[c+1]]`.
-    seg_start: Vec<u32>,
+    /// The segments within the margin and half a diagonal of each cell's centre (so every
+    /// segment within the margin of a point of the cell): `seg_list[seg_runs.get(c)]`.
+    seg_runs: CellRuns,
     seg_list: Vec<u32>,
+    margin: f64,
+    /// Likewise, the wide lists ([`CellGrid::wide_lists`]), once set.
+    wide_runs: CellRuns,
+    wide_list: Vec<u32>,
+}
+
+/// A grid's wide lists ([`CellGrid::wide_lists`]).
+pub(crate) struct WideLists {
+    runs: CellRuns,
+    list: Vec<u32>,
+}
+
+/// Where each cell's run lies in a list sorted by cell, for a grid whose few listed cells lie
+/// along the stroke: 8×8 blocks, a table over all blocks naming the listed ones, and for each
+/// listed block its cells' (start, end). A dense table of starts over a fine grid (a megabyte)
+/// took longer to write than all the lists to find.
+#[derive(Debug, Clone, Default)]
+struct CellRuns {
+    /// Blocks along a row.
+    nbx: u32,
+    /// Per block, its first entry in `runs` (64 a block), or `EMPTY_BLOCK`.
+    block: Vec<u32>,
+    runs: Vec<[u32; 2]>,
+}
+
+const EMPTY_BLOCK: u32 = u32::MAX;
+
+impl CellRuns {
+    /// The runs of `pairs` (cell, value), sorted by cell, on an `nx` × `ny` grid.
+    fn new(pairs: &[(u32, u32)], nx: i32, ny: i32) -> Self {
+        let (nbx, nby) = ((nx as u32).div_ceil(8), (ny as u32).div_ceil(8));
+        let mut block = vec![EMPTY_BLOCK; (nbx * nby) as usize];
+        let mut runs: Vec<[u32; 2]> = Vec::new();
+        let mut i = 0;
+        while i < pairs.len() {
+            let c = pairs[i].0;
+            let start = i as u32;
+            while i < pairs.len() && pairs[i].0 == c {
+                i += 1;
+            }
+            let (cx, cy) = (c % nx as u32, c / nx as u32);
+            let b = &mut block[((cy >> 3) * nbx + (cx >> 3)) as usize];
+            if *b == EMPTY_BLOCK {
+                *b = runs.len() as u32;
+                runs.resize(runs.len() + 64, [0, 0]);
+            }
+            runs[(*b + (cy & 7) * 8 + (cx & 7)) as usize] = [start, i as u32];
+        }
+        CellRuns { nbx, block, runs }
+    }
+
+    /// The run of cell (cx, cy) on the grid (empty for a cell without one).
+    #[inline]
+    fn get(&self, cx: i32, cy: i32) -> std::ops::Range<usize> {
+        let (cx, cy) = (cx as u32, cy as u32);
+        let b = self.block[((cy >> 3) * self.nbx + (cx >> 3)) as usize];
+        if b == EMPTY_BLOCK {
+            return 0..0;
+        }
+        let [s, e] = self.runs[(b + (cy & 7) * 8 + (cx & 7)) as usize];
+        s as usize..e as usize
+    }
 }
 
 impl CellGrid {
@@ -86,93 +149,44 @@ impl CellGrid {
         let ext = hi - lo;
         let nx = ((ext.x / cell).ceil() as i32).max(1);
         let ny = ((ext.y / cell).ceil() as i32).max(1);
-        let ncell = (nx * ny) as usize;
         // Codes hold x + 1 in 16 bits and y + 1 in 12 (a side has at most 2048 cells and the
         // border).
         debug_assert!(nx + 2 <= 0xffff && ny + 2 <= 0xfff);
         let inv_cell = 1.0 / cell;
         let half_diag = cell * std::f64::consts::FRAC_1_SQRT_2;
-        // Each segment's cells, in segment order: per row, only the cells whose x the slab
-        // of the row's centres can reach (serial: the pool's hand-over cost more than the
-        // few thousand tests).
-        let reach = margin + half_diag * 1.0001;
-        let mut pairs: Vec<(u32, u32)> = Vec::new();
-        for (si, &(a, b)) in segments.iter().enumerate() {
-            let (smin, smax) = (
-                a.min(b) - DVec2::splat(margin),
-                a.max(b) + DVec2::splat(margin),
-            );
-            let (x0, y0) = cell_of(lo, inv_cell, smin);
-            let (x1, y1) = cell_of(lo, inv_cell, smax);
-            let (x0, x1) = (x0.max(0), x1.min(nx - 1));
-            for cy in y0.max(0)..y1.min(ny - 1) + 1 {
-                let yc = lo.y + (cy as f64 + 0.5) * cell;
-                let Some((xa, xb)) = x_span_in_slab(a, b, yc - reach, yc + reach) else {
-                    continue;
-                };
-                // A cell either side against rounding: `within` decides.
-                let (ca, _) = cell_of(lo, inv_cell, DVec2::new(xa - reach, yc));
-                let (cb, _) = cell_of(lo, inv_cell, DVec2::new(xb + reach, yc));
-                for cx in (ca - 1).max(x0)..(cb + 1).min(x1) + 1 {
-                    let centre = lo + DVec2::new(cx as f64 + 0.5, cy as f64 + 0.5) * cell;
-                    // Conservative: the cell may hold a point within `margin` of the segment.
-                    if within(centre, a, b, reach) {
-                        pairs.push(((cy * nx + cx) as u32, si as u32));
-                    }
-                }
-            }
-        }
-        // By cell; each cell's segments stay ascending (pushed in segment order, and the
-        // radix sort is stable): a comparison sort of the pairs cost a fifth of the grid.
-        super::radix::sort_by_key(&mut pairs);
+        // Each cell whose centre is within the margin and half a diagonal of a segment (it may
+        // hold a point within the margin of it).
+        let pairs = cell_pairs(
+            segments,
+            (lo, cell, nx, ny),
+            margin,
+            margin + half_diag * 1.0001,
+        );
         // Dilations by NEAR_RING, MID_RING, then CLOSE_RING cells (Chebyshev), from the runs
         // of marked cells along each row (pairs are in row-major cell order): one span per run
         // and row it reaches. The band is thin and mostly along rows, so this writes a few
         // spans where a span per cell wrote thousands. With the outside ring (never near), indexed
         // by code: (cy + 1)·(nx + 2) + cx + 1.
-        // The near table and the CSR, both from the sorted pairs, side by side.
-        let pairs = &pairs;
-        let (near, seg_start) = rayon::join(
-            || {
-                let mut near = vec![0u8; ((nx + 2) * (ny + 2)) as usize];
-                let runs = marked_runs(pairs, nx as u32);
-                for (r, flags) in [
-                    (NEAR_RING, NEAR),
-                    (MID_RING, NEAR | MID),
-                    (CLOSE_RING, NEAR | MID | CLOSE),
-                ] {
-                    let r = r as i32;
-                    for &(cy, a, b) in &runs {
-                        let (x0, x1) = ((a - r).max(0), (b + r).min(nx - 1));
-                        for y in (cy - r).max(0)..(cy + r).min(ny - 1) + 1 {
-                            let row = ((y + 1) * (nx + 2) + 1) as usize;
-                            near[row + x0 as usize..=row + x1 as usize].fill(flags);
-                        }
-                    }
+        let mut near = vec![0u8; ((nx + 2) * (ny + 2)) as usize];
+        let runs = marked_runs(&pairs, nx as u32);
+        for (r, flags) in [
+            (NEAR_RING, NEAR),
+            (MID_RING, NEAR | MID),
+            (CLOSE_RING, NEAR | MID | CLOSE),
+        ] {
+            let r = r as i32;
+            for &(cy, a, b) in &runs {
+                let (x0, x1) = ((a - r).max(0), (b + r).min(nx - 1));
+                for y in (cy - r).max(0)..(cy + r).min(ny - 1) + 1 {
+                    let row = ((y + 1) * (nx + 2) + 1) as usize;
+                    near[row + x0 as usize..=row + x1 as usize].fill(flags);
                 }
-                for &(c, _) in pairs {
-                    let (cx, cy) = (c % nx as u32, c / nx as u32);
-                    near[((cy + 1) * (nx as u32 + 2) + cx + 1) as usize] |= MARKED;
-                }
-                near
-            },
-            || {
-                // CSR over all cells, written as one constant span per stretch between marked
-                // cells.
-                let mut seg_start = Vec::with_capacity(ncell + 1);
-                let mut i = 0;
-                while i < pairs.len() {
-                    let c = pairs[i].0 as usize;
-                    seg_start.resize(c + 1, i as u32);
-                    while i < pairs.len() && pairs[i].0 as usize == c {
-                        i += 1;
-                    }
-                }
-                seg_start.resize(ncell + 1, i as u32);
-                seg_start
-            },
-        );
-        let seg_list = pairs.iter().map(|&(_, s)| s).collect();
+            }
+        }
+        for &(c, _) in &pairs {
+            let (cx, cy) = (c % nx as u32, c / nx as u32);
+            near[((cy + 1) * (nx as u32 + 2) + cx + 1) as usize] |= MARKED;
+        }
         CellGrid {
             origin: lo,
             cell,
@@ -180,9 +194,52 @@ impl CellGrid {
             ny,
             inv_cell,
             near,
-            seg_start,
-            seg_list,
+            seg_runs: CellRuns::new(&pairs, nx, ny),
+            seg_list: pairs.iter().map(|&(_, s)| s).collect(),
+            margin,
+            wide_runs: CellRuns::default(),
+            wide_list: Vec::new(),
         }
+    }
+
+    /// The wide lists: for each cell, the segments within the margin, half a diagonal and a
+    /// diagonal of its centre (with a relative slack of 1e-6, far above rounding), a superset
+    /// of those its eight neighbours list (each of their centres is a diagonal away). Apart
+    /// from [`CellGrid::new`]: the cut finds them beside the vertex pass, which does not read
+    /// them.
+    pub fn wide_lists(&self, segments: &[(DVec2, DVec2)]) -> WideLists {
+        let half_diag = self.cell * std::f64::consts::FRAC_1_SQRT_2;
+        let reach = (self.margin + half_diag * 1.0001 + self.cell * std::f64::consts::SQRT_2)
+            * (1.0 + 1e-6);
+        let pairs = cell_pairs(
+            segments,
+            (self.origin, self.cell, self.nx, self.ny),
+            reach,
+            reach,
+        );
+        WideLists {
+            runs: CellRuns::new(&pairs, self.nx, self.ny),
+            list: pairs.iter().map(|&(_, s)| s).collect(),
+        }
+    }
+
+    /// Sets [`CellGrid::wide_lists`]: [`CellGrid::segments_around`] works from here on.
+    pub fn set_wide_lists(&mut self, wide: WideLists) {
+        self.wide_runs = wide.runs;
+        self.wide_list = wide.list;
+    }
+
+    /// The segments any cell of the inclusive range `(x0, y0, x1, y1)` (on the grid) lists,
+    /// and a few more, each once, ascending, when the range is at most three cells wide and
+    /// high: the wide list of its middle cell. One read where a walk over the range's rows
+    /// and a check for repeats took twice as long. `None` for a larger range, or before
+    /// [`CellGrid::set_wide_lists`].
+    #[inline]
+    pub fn segments_around(&self, (x0, y0, x1, y1): (i32, i32, i32, i32)) -> Option<&[u32]> {
+        if x1 - x0 > 2 || y1 - y0 > 2 || self.wide_runs.block.is_empty() {
+            return None;
+        }
+        Some(&self.wide_list[self.wide_runs.get((x0 + x1) / 2, (y0 + y1) / 2)])
     }
 
     /// The vertex code of a world point seen through `rows` ([`Projector::cell_rows`] for
@@ -330,14 +387,63 @@ impl CellGrid {
     }
 
     /// The lists of cells `x0..=x1` of row `cy`, one after the other (cells are stored in
-    /// row-major order): what [`segments_at`](Self::segments_at) gives cell by cell, from
-    /// two reads instead of two per cell.
+    /// row-major order): what [`segments_at`](Self::segments_at) gives cell by cell, as one
+    /// slice.
     #[inline]
     pub fn segments_along(&self, cy: i32, x0: i32, x1: i32) -> &[u32] {
-        let row = (cy * self.nx) as usize;
-        &self.seg_list[self.seg_start[row + x0 as usize] as usize
-            ..self.seg_start[row + x1 as usize + 1] as usize]
+        // From the first listed cell's start to the last one's end.
+        let mut first = x0;
+        while first <= x1 && self.seg_runs.get(first, cy).is_empty() {
+            first += 1;
+        }
+        if first > x1 {
+            return &[];
+        }
+        let mut last = x1;
+        while self.seg_runs.get(last, cy).is_empty() {
+            last -= 1;
+        }
+        &self.seg_list[self.seg_runs.get(first, cy).start..self.seg_runs.get(last, cy).end]
     }
+}
+
+/// (cell, segment) for each cell of grid `(origin, cell, nx, ny)` whose centre is within
+/// `reach` of a segment ([`within`]), looked for in the segment's box grown by `pad`, per
+/// row only among the cells whose x the slab of the row's centres can reach; by cell, each
+/// cell's segments ascending (pushed in segment order, and the radix sort is stable: a
+/// comparison sort cost a fifth of the grid). Serial: the pool's hand-over cost more than the
+/// few thousand tests.
+fn cell_pairs(
+    segments: &[(DVec2, DVec2)],
+    (lo, cell, nx, ny): (DVec2, f64, i32, i32),
+    pad: f64,
+    reach: f64,
+) -> Vec<(u32, u32)> {
+    let inv_cell = 1.0 / cell;
+    let mut pairs: Vec<(u32, u32)> = Vec::new();
+    for (si, &(a, b)) in segments.iter().enumerate() {
+        let (smin, smax) = (a.min(b) - DVec2::splat(pad), a.max(b) + DVec2::splat(pad));
+        let (x0, y0) = cell_of(lo, inv_cell, smin);
+        let (x1, y1) = cell_of(lo, inv_cell, smax);
+        let (x0, x1) = (x0.max(0), x1.min(nx - 1));
+        for cy in y0.max(0)..y1.min(ny - 1) + 1 {
+            let yc = lo.y + (cy as f64 + 0.5) * cell;
+            let Some((xa, xb)) = x_span_in_slab(a, b, yc - reach, yc + reach) else {
+                continue;
+            };
+            // A cell either side against rounding: `within` decides.
+            let (ca, _) = cell_of(lo, inv_cell, DVec2::new(xa - reach, yc));
+            let (cb, _) = cell_of(lo, inv_cell, DVec2::new(xb + reach, yc));
+            for cx in (ca - 1).max(x0)..(cb + 1).min(x1) + 1 {
+                let centre = lo + DVec2::new(cx as f64 + 0.5, cy as f64 + 0.5) * cell;
+                if within(centre, a, b, reach) {
+                    pairs.push(((cy * nx + cx) as u32, si as u32));
+                }
+            }
+        }
+    }
+    super::radix::sort_by_key(&mut pairs);
+    pairs
 }
 
 /// The inclusive cell range `(x0, y0, x1, y1)` of three packed codes (not behind the eye).
@@ -993,7 +1099,9 @@ mod tests {
     /// Each cell lists exactly the segments within the margin and a half diagonal of its
     /// centre among those whose margin box it overlaps (a scan of each box, cell by cell),
     /// in segment order: strokes of random directions and lengths, steep and flat, with
-    /// margins from a tenth of a cell to several cells.
+    /// margins from a tenth of a cell to several cells. A row's stretch lists its cells'
+    /// segments in turn, and a wide list holds those of every cell of a range up to three
+    /// cells across around it.
     #[test]
     fn cell_lists_are_those_of_a_scan_of_each_box() {
         let mut next = draws(0x5851_f42d_4c95_7f2d);
@@ -1038,6 +1146,40 @@ mod tests {
                     listed += want.len();
                 }
             }
+            // A row's stretch: its cells' lists one after the other.
+            for _ in 0..200 {
+                let cy = next(grid.ny);
+                let x0 = next(grid.nx);
+                let x1 = (x0 + next(6)).min(grid.nx - 1);
+                let want: Vec<u32> = (x0..=x1)
+                    .flat_map(|cx| scan[(cy * grid.nx + cx) as usize].iter().copied())
+                    .collect();
+                assert_eq!(grid.segments_along(cy, x0, x1), &want[..], "case {case}");
+            }
+            // The wide lists: for every range up to three cells across, a superset of its
+            // cells' lists, ascending, each once.
+            let mut grid = grid;
+            assert!(grid.segments_around((0, 0, 0, 0)).is_none(), "not set yet");
+            grid.set_wide_lists(grid.wide_lists(&segs));
+            for cy in 0..grid.ny {
+                for cx in 0..grid.nx {
+                    let (w, h) = (next(3), next(3));
+                    let range = (cx, cy, (cx + w).min(grid.nx - 1), (cy + h).min(grid.ny - 1));
+                    let wide = grid.segments_around(range).expect("at most three across");
+                    assert!(
+                        wide.windows(2).all(|p| p[0] < p[1]),
+                        "case {case}: {wide:?}"
+                    );
+                    for y in range.1..=range.3 {
+                        for x in range.0..=range.2 {
+                            for k in &scan[(y * grid.nx + x) as usize] {
+                                assert!(wide.contains(k), "case {case}, {range:?}: {k}");
+                            }
+                        }
+                    }
+                }
+            }
+            assert!(grid.segments_around((0, 0, 3, 0)).is_none(), "four across");
         }
         assert!(listed > 10_000, "{listed} listings");
     }

@@ -169,12 +169,15 @@ pub(crate) fn find_occurrences<'b>(
                         (ca.0.max(cb.0), ca.1.max(cb.1)),
                     ) {
                         None => continue,
-                        // One cell: its segments, each once already.
-                        Some((x0, y0, x1, y1)) if x0 == x1 && y0 == y1 => grid.segments_at(x0, y0),
-                        Some(range) => {
-                            segments_in(grid, range, &mut near);
-                            &near[..]
-                        }
+                        // At most three cells across (nearly all): the middle cell's wide
+                        // list, whose extra segments are too far to meet the edge.
+                        Some(range) => match grid.segments_around(range) {
+                            Some(list) => list,
+                            None => {
+                                segments_in(grid, range, &mut near);
+                                &near[..]
+                            }
+                        },
                     };
                     for &si in near {
                         let Some(w) = strips[si as usize].window(a, b) else {

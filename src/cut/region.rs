@@ -368,22 +368,39 @@ fn face_near(
     )?;
     let (lo, hi) = (lo - pad, hi + pad);
     let mut gap2 = f64::INFINITY;
-    // A ring of the last four (a slice rotation per segment was a library call).
-    let (mut recent, mut slot) = ([u32::MAX; 4], 0usize);
-    for cy in y0..y1 + 1 {
-        for &k in grid.segments_along(cy, x0, x1) {
-            if recent.contains(&k) {
-                continue;
+    // Whether segment k meets the face (else its gap is taken).
+    let mut meets = |k: u32| {
+        let (p, q) = segments[k as usize];
+        if p.max(q).cmplt(lo).any() || p.min(q).cmpgt(hi).any() {
+            return false;
+        }
+        match segment_triangle_gap2(p, q, s) {
+            None => true,
+            Some(g) => {
+                gap2 = gap2.min(g);
+                false
             }
-            recent[slot & 3] = k;
-            slot += 1;
-            let (p, q) = segments[k as usize];
-            if p.max(q).cmplt(lo).any() || p.min(q).cmpgt(hi).any() {
-                continue;
-            }
-            match segment_triangle_gap2(p, q, s) {
-                None => return Some(Near::Met),
-                Some(g) => gap2 = gap2.min(g),
+        }
+    };
+    // A face at most three cells across (nearly all): the wide list of its middle cell, a
+    // superset whose extra segments are farther than the margin.
+    if let Some(list) = grid.segments_around((x0, y0, x1, y1)) {
+        if list.iter().any(|&k| meets(k)) {
+            return Some(Near::Met);
+        }
+    } else {
+        // A ring of the last four (a slice rotation per segment was a library call).
+        let (mut recent, mut slot) = ([u32::MAX; 4], 0usize);
+        for cy in y0..y1 + 1 {
+            for &k in grid.segments_along(cy, x0, x1) {
+                if recent.contains(&k) {
+                    continue;
+                }
+                recent[slot & 3] = k;
+                slot += 1;
+                if meets(k) {
+                    return Some(Near::Met);
+                }
             }
         }
     }

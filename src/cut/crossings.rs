@@ -149,6 +149,58 @@ pub(crate) fn find_occurrences<'b>(
         .map(|s| s.map_or((DVec2::NAN, (0, 0)), |s| (s.screen, grid.cell(s.screen))))
         .collect();
     let (locate, (chunks, on_stroke)) = rayon::join(make_locate, || {
+        // Vertices on the stroke, once per vertex of a cuttable face (the edge loop would find
+        // each from all its edges). First: the edge loop skips most pairs at the polyline
+        // points they give.
+        let nv = region.verts.len() as u32;
+        let on_stroke: Vec<Vec<Occ>> = (0..nv)
+            .into_par_iter()
+            .chunks(256)
+            .map(|chunk| {
+                let mut occ: Vec<Occ> = Vec::with_capacity(64);
+                for v in chunk {
+                    let faces = region.vertex_faces(v);
+                    if !faces.iter().any(|&f| region.cuttable[f as usize]) {
+                        continue;
+                    }
+                    let (x, (cx, cy)) = at[v as usize];
+                    let near = match grid.clamp((cx, cy), (cx, cy)) {
+                        Some(_) => grid.segments_at(cx, cy),
+                        None => &[],
+                    };
+                    for &si in near {
+                        let Some(w) = strips[si as usize].window(x, x) else {
+                            continue;
+                        };
+                        for k in in_window(&tpar, seg_range[si as usize], w) {
+                            let (p, q) = (pts[k as usize], pts[k as usize + 1]);
+                            if on_segment(p, q, x) && orient(p, q, x) == 0.0 {
+                                let key = if x == p {
+                                    (k, 0.0)
+                                } else if x == q {
+                                    (k + 1, 0.0)
+                                } else {
+                                    let pq = q - p;
+                                    (k, ((x - p).dot(pq) / pq.length_squared()).clamp(0.0, 1.0))
+                                };
+                                occ.push(mk(key, Elem::V(v), x));
+                            }
+                        }
+                    }
+                }
+                occ
+            })
+            .collect();
+        // The polyline point each vertex sits on exactly (snapped vertices), else NONE.
+        let mut point_of = vec![NONE; nv as usize];
+        for o in on_stroke.iter().flatten() {
+            if let Elem::V(v) = o.elem {
+                if o.key.1 == 0.0 && pts[o.key.0 as usize] == o.screen {
+                    point_of[v as usize] = o.key.0;
+                }
+            }
+        }
+        let point_of = &point_of;
         // Edges in fixed chunks on rayon, concatenated in edge order (thread-count independent).
         let chunks: Vec<Vec<Occ>> = region
             .edges
@@ -179,11 +231,25 @@ pub(crate) fn find_occurrences<'b>(
                             }
                         },
                     };
+                    let (ja, jb) = (point_of[ia as usize], point_of[ib as usize]);
                     for &si in near {
                         let Some(w) = strips[si as usize].window(a, b) else {
                             continue;
                         };
-                        for k in in_window(&tpar, seg_range[si as usize], w) {
+                        // Most edges that pass the window have an end snapped onto the
+                        // polyline: skipped when they meet it only there.
+                        let range = seg_range[si as usize];
+                        if meets_only_at(&tpar, pts, range, w, ja, b)
+                            || meets_only_at(&tpar, pts, range, w, jb, a)
+                        {
+                            debug_assert!(in_window(&tpar, range, w).all(|k| {
+                                let (p, q) = (pts[k as usize], pts[k as usize + 1]);
+                                let (o1, o2) = (orient(p, q, a), orient(p, q, b));
+                                o1 * o2 >= 0.0 && (o1 != 0.0 || o2 != 0.0)
+                            }));
+                            continue;
+                        }
+                        for k in in_window(&tpar, range, w) {
                             let (p, q) = (pts[k as usize], pts[k as usize + 1]);
                             // Boxes apart: nothing to meet (exact: comparisons only).
                             if p.x.max(q.x) < a.x.min(b.x)
@@ -250,47 +316,6 @@ pub(crate) fn find_occurrences<'b>(
                                         occ.push(o);
                                     }
                                 }
-                            }
-                        }
-                    }
-                }
-                occ
-            })
-            .collect();
-        // Vertices on the stroke, once per vertex of a cuttable face (the edge loop would find
-        // each from all its edges).
-        let nv = region.verts.len() as u32;
-        let on_stroke: Vec<Vec<Occ>> = (0..nv)
-            .into_par_iter()
-            .chunks(256)
-            .map(|chunk| {
-                let mut occ: Vec<Occ> = Vec::with_capacity(64);
-                for v in chunk {
-                    let faces = region.vertex_faces(v);
-                    if !faces.iter().any(|&f| region.cuttable[f as usize]) {
-                        continue;
-                    }
-                    let (x, (cx, cy)) = at[v as usize];
-                    let near = match grid.clamp((cx, cy), (cx, cy)) {
-                        Some(_) => grid.segments_at(cx, cy),
-                        None => &[],
-                    };
-                    for &si in near {
-                        let Some(w) = strips[si as usize].window(x, x) else {
-                            continue;
-                        };
-                        for k in in_window(&tpar, seg_range[si as usize], w) {
-                            let (p, q) = (pts[k as usize], pts[k as usize + 1]);
-                            if on_segment(p, q, x) && orient(p, q, x) == 0.0 {
-                                let key = if x == p {
-                                    (k, 0.0)
-                                } else if x == q {
-                                    (k + 1, 0.0)
-                                } else {
-                                    let pq = q - p;
-                                    (k, ((x - p).dot(pq) / pq.length_squared()).clamp(0.0, 1.0))
-                                };
-                                occ.push(mk(key, Elem::V(v), x));
                             }
                         }
                     }
@@ -466,6 +491,37 @@ fn in_window(tpar: &[f64], (j0, j1): (u32, u32), (t0, t1): (f64, f64)) -> std::o
     // Segment i spans ts[i]..ts[i + 1] (1 for the last): the one before the first start in
     // the window ends in it.
     j0 + first.saturating_sub(1) as u32..j0 + past as u32
+}
+
+/// Whether the exact tests of an edge against the polyline segments of prepared segment
+/// `(j0, j1)` in window `w` ([`Strip::window`]) surely find nothing, when one end of the edge
+/// sits on polyline point `j` (`NONE`: it does not) and `far` is the other end: `j` lies
+/// strictly inside the range, the window holds no segment but the two at `j` (as
+/// [`in_window`] would choose them), and `far` lies on neither's line. Both segments have
+/// that end as an end point, where `orient` is exactly 0, so only a collinear far end would
+/// make them meet the edge (the vertex loop reports the end itself). Cheaper than the window's
+/// search and the tests: on spot, through all, two windows in three are skipped.
+#[inline]
+fn meets_only_at(
+    tpar: &[f64],
+    pts: &[DVec2],
+    (j0, j1): (u32, u32),
+    (t0, t1): (f64, f64),
+    j: u32,
+    far: DVec2,
+) -> bool {
+    // `in_window`'s slack, and its short ranges (taken whole).
+    const EPS: f64 = 1e-9;
+    if j == NONE || j <= j0 || j >= j1 || (j1 - j0 <= 3 && j1 - j0 != 2) {
+        return false;
+    }
+    let j = j as usize;
+    if (j - 1 > j0 as usize && tpar[j - 1] >= t0 - EPS)
+        || (j + 1 < j1 as usize && tpar[j + 1] <= t1 + EPS)
+    {
+        return false;
+    }
+    orient(pts[j - 1], pts[j], far) != 0.0 && orient(pts[j], pts[j + 1], far) != 0.0
 }
 
 /// Each polyline point's parameter along its prepared segment (the points a segment snap
@@ -742,8 +798,44 @@ pub(crate) fn chains(
 
 #[cfg(test)]
 mod tests {
-    use super::Strip;
+    use super::{along, in_window, meets_only_at, Strip, NONE};
+    use crate::cut::geom::orient;
     use glam::DVec2;
+
+    /// An edge from an interior polyline point to a point off the line is skipped, and the
+    /// tests it skips find nothing; not when the far end is on a piece's line, when the
+    /// window reaches a third piece, when the point is an end of the range, or without a
+    /// point.
+    #[test]
+    fn edges_from_a_polyline_point_are_skipped_only_when_nothing_is_met() {
+        // One prepared segment (0, 0)-(10, 0) with feet at x = 2, 4, 6, 8.
+        let pts: Vec<DVec2> = (0..=5).map(|i| DVec2::new(2.0 * i as f64, 0.0)).collect();
+        let range = (0, 5);
+        let tpar = along(&pts, &[range]);
+        let strip = Strip::new(pts[0], pts[5]);
+        let found = |a: DVec2, b: DVec2| {
+            let w = strip.window(a, b).expect("the edge touches the line");
+            in_window(&tpar, range, w).any(|k| {
+                let (p, q) = (pts[k as usize], pts[k as usize + 1]);
+                let (o1, o2) = (orient(p, q, a), orient(p, q, b));
+                o1 * o2 < 0.0 || (o1 == 0.0 && o2 == 0.0)
+            })
+        };
+        let skip = |j: u32, a: DVec2, b: DVec2| {
+            meets_only_at(&tpar, &pts, range, strip.window(a, b).unwrap(), j, b)
+        };
+        let (a, off) = (pts[2], DVec2::new(4.3, 0.7));
+        assert!(skip(2, a, off) && !found(a, off));
+        // Along the line: the far end is on a piece.
+        let along_line = DVec2::new(5.0, 0.0);
+        assert!(!skip(2, a, along_line) && found(a, along_line));
+        // A nearly parallel edge: its window reaches past the pieces at the point.
+        let flat = DVec2::new(9.0, 1e-13);
+        assert!(!skip(2, a, flat));
+        // An end of the range, and no point.
+        assert!(!skip(0, pts[0], DVec2::new(1.0, 1.0)));
+        assert!(!skip(NONE, a, off));
+    }
 
     /// A point a segment snap inserts (`a + t·(b − a)`, as `snap` computes it) is never
     /// "apart" from the segment's line, alone or with any other point: the filter only

@@ -10,6 +10,9 @@
 //! then measures the few kept ones on screen). Both passes run on
 //! rayon in fixed chunks and concatenate in chunk order, so the result does not depend on
 //! the thread count.
+//!
+//! The grid also lists each cell's nearby segments, for the region's tests; wider lists,
+//! found beside pass 1, serve a face or an edge up to three cells across in one read.
 
 use std::mem::MaybeUninit;
 
@@ -58,6 +61,7 @@ pub(crate) struct CellGrid {
     /// segment within the margin of a point of the cell): `seg_list[seg_runs.get(c)]`.
     seg_runs: CellRuns,
     seg_list: Vec<u32>,
+    /// The margin the grid was made for.
     margin: f64,
     /// Likewise, the wide lists ([`CellGrid::wide_lists`]), once set.
     wide_runs: CellRuns,

@@ -354,7 +354,9 @@ fn face_near(
     // within the margin and half a diagonal of their centre, with a relative slack of 1e-4
     // of the half diagonal, far above 1e-9 of the margin). Each segment tested once: the last
     // few tested are remembered (a segment spans many cells of a small box). Segments whose
-    // box is farther than `keep` are skipped: they cannot be the nearest within it.
+    // box is farther than `keep` are skipped: they cannot be the nearest within it. A box at
+    // most three cells across takes its middle cell's wide list instead: the segments it adds
+    // are farther than `keep`, so they neither meet the face nor lower a gap within `keep`.
     let c = map3(t, |v| cells[v as usize]);
     let (x0, y0, x1, y1) = grid.clamp(
         (
@@ -382,8 +384,7 @@ fn face_near(
             }
         }
     };
-    // A face at most three cells across (nearly all): the wide list of its middle cell, a
-    // superset whose extra segments are farther than the margin.
+    // A face at most three cells across (nearly all): the wide list of its middle cell.
     if let Some(list) = grid.segments_around((x0, y0, x1, y1)) {
         if list.iter().any(|&k| meets(k)) {
             return Some(Near::Met);

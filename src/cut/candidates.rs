@@ -58,20 +58,35 @@ pub(crate) struct CellGrid {
     /// corners are then not all within the ring's width of the marked one).
     near: Vec<u8>,
     /// The segments within the margin and half a diagonal of each cell's centre (so every
-    /// segment within the margin of a point of the cell): `seg_list[seg_runs.get(c)]`.
-    seg_runs: CellRuns,
-    seg_list: Vec<u32>,
+    /// segment within the margin of a point of the cell).
+    lists: CellLists,
     /// The margin the grid was made for.
     margin: f64,
-    /// Likewise, the wide lists ([`CellGrid::wide_lists`]), once set.
-    wide_runs: CellRuns,
-    wide_list: Vec<u32>,
+    /// The wide lists ([`CellGrid::wide_lists`]), once set.
+    wide: CellLists,
 }
 
-/// A grid's wide lists ([`CellGrid::wide_lists`]).
-pub(crate) struct WideLists {
+/// Segments listed per cell: `list[runs.get(cx, cy)]`.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct CellLists {
     runs: CellRuns,
     list: Vec<u32>,
+}
+
+impl CellLists {
+    /// The lists of (cell, segment) `pairs`, sorted by cell, on an `nx` × `ny` grid.
+    fn new(pairs: &[(u32, u32)], nx: i32, ny: i32) -> Self {
+        CellLists {
+            runs: CellRuns::new(pairs, nx, ny),
+            list: pairs.iter().map(|&(_, s)| s).collect(),
+        }
+    }
+
+    /// The segments of cell (cx, cy) on the grid.
+    #[inline]
+    fn at(&self, cx: i32, cy: i32) -> &[u32] {
+        &self.list[self.runs.get(cx, cy)]
+    }
 }
 
 /// Where each cell's run lies in a list sorted by cell, for a grid whose few listed cells lie
@@ -198,11 +213,9 @@ impl CellGrid {
             ny,
             inv_cell,
             near,
-            seg_runs: CellRuns::new(&pairs, nx, ny),
-            seg_list: pairs.iter().map(|&(_, s)| s).collect(),
+            lists: CellLists::new(&pairs, nx, ny),
             margin,
-            wide_runs: CellRuns::default(),
-            wide_list: Vec::new(),
+            wide: CellLists::default(),
         }
     }
 
@@ -211,7 +224,7 @@ impl CellGrid {
     /// of those its eight neighbours list (each of their centres is a diagonal away). Apart
     /// from [`CellGrid::new`]: the cut finds them beside the vertex pass, which does not read
     /// them.
-    pub fn wide_lists(&self, segments: &[(DVec2, DVec2)]) -> WideLists {
+    pub fn wide_lists(&self, segments: &[(DVec2, DVec2)]) -> CellLists {
         let half_diag = self.cell * std::f64::consts::FRAC_1_SQRT_2;
         let reach = (self.margin + half_diag * 1.0001 + self.cell * std::f64::consts::SQRT_2)
             * (1.0 + 1e-6);
@@ -221,16 +234,12 @@ impl CellGrid {
             reach,
             reach,
         );
-        WideLists {
-            runs: CellRuns::new(&pairs, self.nx, self.ny),
-            list: pairs.iter().map(|&(_, s)| s).collect(),
-        }
+        CellLists::new(&pairs, self.nx, self.ny)
     }
 
     /// Sets [`CellGrid::wide_lists`]: [`CellGrid::segments_around`] works from here on.
-    pub fn set_wide_lists(&mut self, wide: WideLists) {
-        self.wide_runs = wide.runs;
-        self.wide_list = wide.list;
+    pub fn set_wide_lists(&mut self, wide: CellLists) {
+        self.wide = wide;
     }
 
     /// The segments any cell of the inclusive range `(x0, y0, x1, y1)` (on the grid) lists,
@@ -240,10 +249,10 @@ impl CellGrid {
     /// [`CellGrid::set_wide_lists`].
     #[inline]
     pub fn segments_around(&self, (x0, y0, x1, y1): (i32, i32, i32, i32)) -> Option<&[u32]> {
-        if x1 - x0 > 2 || y1 - y0 > 2 || self.wide_runs.block.is_empty() {
+        if x1 - x0 > 2 || y1 - y0 > 2 || self.wide.runs.block.is_empty() {
             return None;
         }
-        Some(&self.wide_list[self.wide_runs.get((x0 + x1) / 2, (y0 + y1) / 2)])
+        Some(self.wide.at((x0 + x1) / 2, (y0 + y1) / 2))
     }
 
     /// The vertex code of a world point seen through `rows` ([`Projector::cell_rows`] for
@@ -396,18 +405,15 @@ impl CellGrid {
     #[inline]
     pub fn segments_along(&self, cy: i32, x0: i32, x1: i32) -> &[u32] {
         // From the first listed cell's start to the last one's end.
-        let mut first = x0;
-        while first <= x1 && self.seg_runs.get(first, cy).is_empty() {
-            first += 1;
-        }
-        if first > x1 {
+        let runs = &self.lists.runs;
+        let Some(first) = (x0..=x1).map(|cx| runs.get(cx, cy)).find(|r| !r.is_empty()) else {
             return &[];
-        }
-        let mut last = x1;
-        while self.seg_runs.get(last, cy).is_empty() {
-            last -= 1;
-        }
-        &self.seg_list[self.seg_runs.get(first, cy).start..self.seg_runs.get(last, cy).end]
+        };
+        let last = (x0..=x1)
+            .rev()
+            .map(|cx| runs.get(cx, cy))
+            .find(|r| !r.is_empty());
+        &self.lists.list[first.start..last.expect("a listed cell").end]
     }
 }
 

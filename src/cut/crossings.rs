@@ -472,16 +472,20 @@ impl Strip {
     }
 }
 
+/// [`in_window`]'s slack on a window's parameters, against rounding.
+const EPS: f64 = 1e-9;
+/// [`in_window`] takes a prepared segment of at most this many polyline segments whole.
+const WHOLE: u32 = 3;
+
 /// The polyline segments of prepared segment `(j0, j1)` whose parameter span (from
 /// [`along`]) meets `t0..=t1` widened by 1e-9 against rounding: one search for the first,
 /// a scan for the few after it. A window from [`Strip::window`] holds one or two (the
 /// edge's box, which set the span before, held four on average on spot, through all).
 #[inline]
 fn in_window(tpar: &[f64], (j0, j1): (u32, u32), (t0, t1): (f64, f64)) -> std::ops::Range<u32> {
-    if j1 - j0 <= 3 {
+    if j1 - j0 <= WHOLE {
         return j0..j1;
     }
-    const EPS: f64 = 1e-9;
     let ts = &tpar[j0 as usize..j1 as usize];
     let first = ts.partition_point(|&t| t < t0 - EPS);
     let mut past = first;
@@ -510,9 +514,8 @@ fn meets_only_at(
     j: u32,
     far: DVec2,
 ) -> bool {
-    // `in_window`'s slack, and its short ranges (taken whole).
-    const EPS: f64 = 1e-9;
-    if j == NONE || j <= j0 || j >= j1 || (j1 - j0 <= 3 && j1 - j0 != 2) {
+    // A range taken whole holds only the two pieces when it has two.
+    if j == NONE || j <= j0 || j >= j1 || (j1 - j0 <= WHOLE && j1 - j0 != 2) {
         return false;
     }
     let j = j as usize;

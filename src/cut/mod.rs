@@ -701,21 +701,18 @@ fn report_parts(
         length.degenerate_met.iter().map(|&t| tri_face(t)).collect();
     degenerate_faces.sort_unstable();
     degenerate_faces.dedup();
+    let global_steps = |steps: &[(u32, u32, u32)]| -> Vec<(u32, VertexId, VertexId)> {
+        steps.iter().map(|&(p, u, w)| (p, gid(u), gid(w))).collect()
+    };
     CutReport {
         moved,
         max_move_world,
         max_move_px,
         snaps_refused,
         paths,
-        unjoined: unjoined
-            .iter()
-            .map(|&(p, u, w)| (p, gid(u), gid(w)))
-            .collect(),
+        unjoined: global_steps(unjoined),
         ends_moved_to_edges,
-        rerouted: rerouted
-            .iter()
-            .map(|&(p, u, w)| (p, gid(u), gid(w)))
-            .collect(),
+        rerouted: global_steps(rerouted),
         clipped_faces,
         degenerate_faces,
         dropped: dropped_points(prep, line, occ, in_chain, in_final, region, locate),

@@ -55,7 +55,9 @@ pub(crate) struct CellGrid {
     /// Marked cells ([`MARKED`]) grown by [`NEAR_RING`] cells each way ([`NEAR`]) and by
     /// [`CLOSE_RING`] ([`CLOSE`] too), on the grid with its outside ring: a face none of whose corners is in
     /// a ring touches a marked cell only if it spans more cells than the ring is wide (its
-    /// corners are then not all within the ring's width of the marked one).
+    /// corners are then not all within the ring's width of the marked one). Three zero bytes
+    /// follow the table, so a four-byte read at its last cell stays inside it (the AVX-512
+    /// pass gathers the flags that way).
     near: Vec<u8>,
     /// The segments within the margin and half a diagonal of each cell's centre (so every
     /// segment within the margin of a point of the cell).
@@ -185,8 +187,8 @@ impl CellGrid {
         // of marked cells along each row (pairs are in row-major cell order): one span per run
         // and row it reaches. The band is thin and mostly along rows, so this writes a few
         // spans where a span per cell wrote thousands. With the outside ring (never near), indexed
-        // by code: (cy + 1)·(nx + 2) + cx + 1.
-        let mut near = vec![0u8; ((nx + 2) * (ny + 2)) as usize];
+        // by code: (cy + 1)·(nx + 2) + cx + 1; and three bytes of padding.
+        let mut near = vec![0u8; ((nx + 2) * (ny + 2)) as usize + 3];
         let runs = marked_runs(&pairs, nx as u32);
         for (r, flags) in [
             (NEAR_RING, NEAR),
@@ -298,7 +300,7 @@ impl CellGrid {
                 && std::arch::is_x86_feature_detected!("avx512vl");
             let (near, nx, ny) = (&self.near, self.nx, self.ny);
             // SAFETY: AVX2 (and for `codes8` AVX-512 F and VL) is there; `out` is as long as
-            // `ps`; `near` is (nx + 2) × (ny + 2).
+            // `ps`; `near` is (nx + 2) × (ny + 2) and its padding.
             done = unsafe {
                 if wide {
                     super::codes_simd::codes8(rows, near, nx, ny, ps, out)

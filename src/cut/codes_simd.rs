@@ -34,7 +34,8 @@ fn ahead(p: *const f64, lines: usize) {
 /// the rest with the portable code. `near` is the grid's table of near flags, (nx + 2) × (ny + 2).
 ///
 /// # Safety
-/// The CPU has AVX2; `out.len() >= ps.len()`; `near.len() == (nx + 2) * (ny + 2)`.
+/// The CPU has AVX2; `out.len() >= ps.len()`; `near.len() == (nx + 2) * (ny + 2) + 3` (the
+/// table and its padding).
 #[target_feature(enable = "avx2")]
 pub(crate) unsafe fn codes(
     rows: &(DVec4, DVec4, DVec4),
@@ -45,7 +46,7 @@ pub(crate) unsafe fn codes(
     out: &mut [MaybeUninit<u32>],
 ) -> usize {
     debug_assert!(out.len() >= ps.len());
-    debug_assert_eq!(near.len(), ((nx + 2) * (ny + 2)) as usize);
+    debug_assert_eq!(near.len(), ((nx + 2) * (ny + 2)) as usize + 3);
     let b = |v: f64| _mm256_set1_pd(v);
     let row = |r: DVec4| (b(r.x), b(r.y), b(r.z), b(r.w));
     let (r0, r1, r2) = (row(rows.0), row(rows.1), row(rows.2));
@@ -127,7 +128,7 @@ pub(crate) unsafe fn codes8(
     out: &mut [MaybeUninit<u32>],
 ) -> usize {
     debug_assert!(out.len() >= ps.len());
-    debug_assert_eq!(near.len(), ((nx + 2) * (ny + 2)) as usize);
+    debug_assert_eq!(near.len(), ((nx + 2) * (ny + 2)) as usize + 3);
     let b = |v: f64| _mm512_set1_pd(v);
     let row = |r: DVec4| (b(r.x), b(r.y), b(r.z), b(r.w));
     let (r0, r1, r2) = (row(rows.0), row(rows.1), row(rows.2));
@@ -177,18 +178,11 @@ pub(crate) unsafe fn codes8(
         let cx = _mm512_cvttpd_epi32(clamp(_mm512_mul_pd(dot(r0), inv), hx));
         let cy = _mm512_cvttpd_epi32(clamp(_mm512_mul_pd(dot(r1), inv), hy));
         let at = _mm256_add_epi32(_mm256_mullo_epi32(cy, stride), cx);
-        let mut idx = [0i32; 8];
-        _mm256_storeu_si256(idx.as_mut_ptr() as *mut __m256i, at);
-        let near_at = |k: usize| *near.get_unchecked(idx[k] as usize) as i32;
-        let nb = _mm256_setr_epi32(
-            near_at(0),
-            near_at(1),
-            near_at(2),
-            near_at(3),
-            near_at(4),
-            near_at(5),
-            near_at(6),
-            near_at(7),
+        // Each cell's flags as the low byte of a four-byte gather (the table's padding keeps
+        // the last cell's read inside it): eight loads and inserts took a sixth of this pass.
+        let nb = _mm256_and_si256(
+            _mm256_i32gather_epi32::<1>(near.as_ptr() as *const i32, at),
+            _mm256_set1_epi32(0xff),
         );
         let code = _mm256_or_si256(
             _mm256_or_si256(cx, _mm256_slli_epi32::<16>(cy)),

@@ -100,7 +100,7 @@ impl Region {
             .with_min_len(1024)
             .map(|s| s.map_or((0, 0), |s| grid.cell(s.screen)))
             .collect();
-        let near: Vec<Option<Near>> = tri
+        let near: Vec<Near> = tri
             .par_iter()
             .with_min_len(1024)
             .map(|&t| face_near(t, &seen, &cells, grid, segments, margin))
@@ -225,60 +225,68 @@ pub(crate) struct EdgeLength {
 
 /// L: the mean screen (and world) length of the edges of projectable, non-degenerate faces
 /// that the stroke meets (gap-fill for seed 002 §3.2's "mean edge length", spec §4), each
-/// edge once, summed in face then corner order. `near[f] == Some(Near::Met)`: the stroke meets
+/// edge once, summed in face then corner order. `near[f].met()`: the stroke meets
 /// face `f` (whose corners are then all in front of the eye).
 fn mean_edge_length(
     tri: &[[u32; 3]],
-    near: &[Option<Near>],
+    near: &[Near],
     seen: &[Option<Seen>],
     pos: &[DVec3],
 ) -> EdgeLength {
-    // Edges met so far, listed at their smaller end (a vertex has a few): cheaper than
-    // hashing every corner's edge.
-    let mut head = vec![NONE; pos.len()];
-    let mut link: Vec<(u32, u32)> = Vec::with_capacity(tri.len());
-    let mut first_use = |u: u32, v: u32| {
-        let (a, b) = (u.min(v), u.max(v));
-        let mut k = head[a as usize];
-        while k != NONE {
-            let (other, next) = link[k as usize];
-            if other == b {
-                return false;
-            }
-            k = next;
-        }
-        link.push((b, head[a as usize]));
-        head[a as usize] = link.len() as u32 - 1;
-        true
-    };
-    let (mut sum_px, mut sum_w, mut n) = (0.0, 0.0, 0u64);
-    let mut degenerate_met = Vec::new();
     let screen = |v: u32| {
         seen[v as usize]
             .expect("a face the stroke meets is projectable")
             .screen
     };
     let pos = |v: u32| pos[v as usize];
-    for (lf, t) in tri.iter().enumerate() {
-        if near[lf] != Some(Near::Met) {
-            continue;
+    // The met faces first, without a branch (a third of the faces, in no pattern: a test per
+    // face mispredicted on many).
+    let mut met = vec![0u32; tri.len()];
+    let mut k = 0;
+    for (lf, n) in near.iter().enumerate() {
+        met[k] = lf as u32;
+        k += n.met() as usize;
+    }
+    met.truncate(k);
+    // The edges seen so far, in an open-addressing table at least half empty. Whether an
+    // edge is new is a coin toss (most are met twice), so it is used as a value, not a
+    // branch: the probe stops at the edge or at an empty slot, and the slot is written either
+    // way; a list of edges per vertex, walked with branches, took twice as long.
+    const EMPTY: u64 = u64::MAX;
+    let slots = (6 * met.len()).next_power_of_two().max(16);
+    let (mask, shift) = (slots - 1, 64 - slots.trailing_zeros());
+    let mut table = vec![EMPTY; slots];
+    let mut first_use = |u: u32, v: u32| {
+        let key = (u.min(v) as u64) << 32 | u.max(v) as u64;
+        let mut h = (key.wrapping_mul(0x9e37_79b9_7f4a_7c15) >> shift) as usize;
+        while table[h] != key && table[h] != EMPTY {
+            h = (h + 1) & mask;
         }
+        let fresh = table[h] == EMPTY;
+        table[h] = key;
+        fresh
+    };
+    let (mut sum_px, mut sum_w, mut n) = (0.0, 0.0, 0u64);
+    let mut degenerate_met = Vec::new();
+    for lf in met {
+        let t = &tri[lf as usize];
         if is_degenerate(
             screen(t[0]),
             screen(t[1]),
             screen(t[2]),
             [pos(t[0]), pos(t[1]), pos(t[2])],
         ) {
-            degenerate_met.push(lf as u32);
+            degenerate_met.push(lf);
             continue;
         }
         for i in 0..3 {
             let (u, v) = (t[i], t[(i + 1) % 3]);
-            if first_use(u, v) {
-                sum_px += (screen(u) - screen(v)).length();
-                sum_w += (pos(u) - pos(v)).length();
-                n += 1;
-            }
+            let fresh = first_use(u, v);
+            // Adding 0.0 to a sum of lengths leaves its bits as they were.
+            let (px, w) = ((screen(u) - screen(v)).length(), (pos(u) - pos(v)).length());
+            sum_px += if fresh { px } else { 0.0 };
+            sum_w += if fresh { w } else { 0.0 };
+            n += fresh as u64;
         }
     }
     let (px, world) = if n == 0 {
@@ -299,15 +307,13 @@ fn is_degenerate(a: DVec2, b: DVec2, c: DVec2, p: [DVec3; 3]) -> bool {
     orient(a, b, c) == 0.0 || (p[1] - p[0]).cross(p[2] - p[0]).length_squared() == 0.0
 }
 
-/// How near a face is to the stroke on screen ([`face_near`]).
+/// How near a face is to the stroke on screen ([`face_near`]), as one number: the squared gap
+/// between them, −1 where the stroke meets the face ([`Near::MET`]), 0 for a face with a
+/// corner behind the eye (kept at every radius, never cut), infinite beyond the margin
+/// ([`Near::AWAY`]). A number, so that keeping the faces within a radius is one comparison a
+/// face: a match on an enum there was a branch that mispredicted on about half the faces.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub(crate) enum Near {
-    /// The stroke meets it (L is measured on those).
-    Met,
-    /// It is apart, this squared gap away (0 for a face with a corner behind the eye: kept
-    /// at every radius, never cut).
-    Gap2(f64),
-}
+pub(crate) struct Near(f64);
 
 /// The slack on a radius: membership only needs to be conservative.
 #[inline]
@@ -316,20 +322,24 @@ fn keep_radius(r: f64) -> f64 {
 }
 
 impl Near {
-    /// The squared gap of a face this near (`None`: beyond the margin), −1 where the stroke
-    /// meets it: the face is within `r` of the stroke (up to [`keep_radius`]'s slack) when
-    /// this is at most `keep_radius(r)²`, one comparison without a branch.
+    /// The stroke meets the face (L is measured on those).
+    const MET: Near = Near(-1.0);
+    /// Beyond the margin.
+    const AWAY: Near = Near(f64::INFINITY);
+
     #[inline]
-    fn gap2(near: Option<Near>) -> f64 {
-        match near {
-            None => f64::INFINITY,
-            Some(Near::Met) => -1.0,
-            Some(Near::Gap2(g)) => g,
-        }
+    fn met(self) -> bool {
+        self.0 == Self::MET.0
+    }
+
+    /// Whether the face is within a radius whose [`keep_radius`] squared is `lim2`.
+    #[inline]
+    fn within(self, lim2: f64) -> bool {
+        self.0 <= lim2
     }
 }
 
-/// How near face `t` is to the stroke on screen, or `None` beyond `margin`
+/// How near face `t` is to the stroke on screen, [`Near::AWAY`] beyond `margin`
 /// ([`segment_triangle_gap2`]). Plain f64 with a relative slack on the margin: membership
 /// only needs to be conservative (a face around a vertex within the margin is at most as
 /// far as that vertex, up to rounding far below the slack), and L is a mean; every
@@ -341,9 +351,9 @@ fn face_near(
     grid: &CellGrid,
     segments: &[(DVec2, DVec2)],
     margin: f64,
-) -> Option<Near> {
+) -> Near {
     let [Some(a), Some(b), Some(c)] = map3(t, |v| seen[v as usize]) else {
-        return Some(Near::Gap2(0.0));
+        return Near(0.0);
     };
     let s = [a.screen, b.screen, c.screen];
     let keep = keep_radius(margin);
@@ -358,7 +368,7 @@ fn face_near(
     // most three cells across takes its middle cell's wide list instead: the segments it adds
     // are farther than `keep`, so they neither meet the face nor lower a gap within `keep`.
     let c = map3(t, |v| cells[v as usize]);
-    let (x0, y0, x1, y1) = grid.clamp(
+    let Some((x0, y0, x1, y1)) = grid.clamp(
         (
             c[0].0.min(c[1].0).min(c[2].0),
             c[0].1.min(c[1].1).min(c[2].1),
@@ -367,7 +377,9 @@ fn face_near(
             c[0].0.max(c[1].0).max(c[2].0),
             c[0].1.max(c[1].1).max(c[2].1),
         ),
-    )?;
+    ) else {
+        return Near::AWAY;
+    };
     let (lo, hi) = (lo - pad, hi + pad);
     let mut gap2 = f64::INFINITY;
     // Whether segment k meets the face (else its gap is taken).
@@ -387,7 +399,7 @@ fn face_near(
     // A face at most three cells across (nearly all): the wide list of its middle cell.
     if let Some(list) = grid.segments_around((x0, y0, x1, y1)) {
         if list.iter().any(|&k| meets(k)) {
-            return Some(Near::Met);
+            return Near::MET;
         }
     } else {
         // A ring of the last four (a slice rotation per segment was a library call).
@@ -400,12 +412,16 @@ fn face_near(
                 recent[slot & 3] = k;
                 slot += 1;
                 if meets(k) {
-                    return Some(Near::Met);
+                    return Near::MET;
                 }
             }
         }
     }
-    (gap2 <= keep * keep).then_some(Near::Gap2(gap2))
+    if gap2 <= keep * keep {
+        Near(gap2)
+    } else {
+        Near::AWAY
+    }
 }
 
 /// The candidates [`face_near`] kept, vertices renumbered in the same (ascending global)
@@ -418,7 +434,7 @@ struct NearFaces {
     pos: Vec<DVec3>,
 }
 
-/// [`NearFaces`] of the `candidates` within `reach` ([`Near::gap2`]). Branch-free: whether a
+/// [`NearFaces`] of the `candidates` within `reach` ([`Near::within`]). Branch-free: whether a
 /// face or a vertex stays is close to a coin toss, and the mispredicted branches of a
 /// filter-and-push took a third of this step (spot, through all: 0.18 → 0.11 ms).
 fn keep_near(
@@ -427,7 +443,7 @@ fn keep_near(
     mut verts: Vec<u32>,
     mut seen: Vec<Option<Seen>>,
     mut pos: Vec<DVec3>,
-    near: &[Option<Near>],
+    near: &[Near],
     reach: f64,
 ) -> NearFaces {
     let lim2 = keep_radius(reach) * keep_radius(reach);
@@ -436,7 +452,7 @@ fn keep_near(
     let mut k = 0usize;
     for (i, &n) in near.iter().enumerate() {
         kept[k] = i as u32;
-        k += (Near::gap2(n) <= lim2) as usize;
+        k += n.within(lim2) as usize;
     }
     kept.truncate(k);
     let nv = verts.len();

@@ -450,7 +450,9 @@ impl Strip {
         let m = x.abs().max(y.abs()).max_element();
         let tol = self.unit * (1.0 + self.extent + m);
         let (cx, cy) = (self.d.perp_dot(x - self.a), self.d.perp_dot(y - self.a));
-        if (cx > tol && cy > tol) || (cx < -tol && cy < -tol) {
+        // Both ends beyond the band on one side, as one branch (the four tests in turn went
+        // either way with the side of the edge).
+        if (cx.min(cy) > tol) | (cx.max(cy) < -tol) {
             return None;
         }
         let band = 2.0 * self.unit * (1.0 + 2.0 * self.extent + m);

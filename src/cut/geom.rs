@@ -14,8 +14,22 @@ pub(crate) fn map3<T: Copy, U>(t: [T; 3], mut f: impl FnMut(T) -> U) -> [U; 3] {
 
 /// Twice the signed area of abc: > 0 when a, b, c turn counter-clockwise in a y-up frame
 /// (clockwise on the y-down screen), exact in sign.
+///
+/// The `robust` crate's first step, its floating-point filter (Ozaki et al. 2016, the bound
+/// θ·|l + r| on the error of l − r), is taken here as one comparison of the magnitude: the
+/// crate compares `det` and `−det` in turn, two branches that went either way with the
+/// side of the point (a tenth of the cut's mispredicted branches, under callgrind). Where the
+/// filter passes, this is the value the crate returns; otherwise the crate decides.
 #[inline]
 pub(crate) fn orient(a: DVec2, b: DVec2, c: DVec2) -> f64 {
+    /// θ of the filter, as in `robust` 1.2 (3.33e-16, about 3u for the unit roundoff u).
+    const THETA: f64 = 3.330_669_062_177_372_2e-16;
+    let left = (a.x - c.x) * (b.y - c.y);
+    let right = (a.y - c.y) * (b.x - c.x);
+    let det = left - right;
+    if det.abs() >= THETA * (left + right).abs() {
+        return det;
+    }
     orient2d(
         Coord { x: a.x, y: a.y },
         Coord { x: b.x, y: b.y },
@@ -72,4 +86,53 @@ pub(crate) fn max_cos_sides(a: DVec3, b: DVec3, c: DVec3, [ab, bc, ca]: [f64; 3]
     cos(a, b, c, ab * ca)
         .max(cos(b, c, a, bc * ab))
         .max(cos(c, a, b, ca * bc))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::orient;
+    use glam::DVec2;
+    use robust::{orient2d, Coord};
+
+    /// The same values as `robust::orient2d`, bit for bit: random points, points on lines
+    /// through them (where the filter fails and the crate's exact stages decide), repeated
+    /// points, huge, tiny, infinite and NaN coordinates.
+    #[test]
+    fn orient_is_robusts_orient2d() {
+        let mut seed = 0x2545_f491_4f6c_dd1d_u64;
+        let mut next = || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+        };
+        let mut cases: Vec<[DVec2; 3]> = Vec::new();
+        for _ in 0..20_000 {
+            let (a, b) = (DVec2::new(next(), next()), DVec2::new(next(), next()));
+            let t = next();
+            cases.push([a, b, DVec2::new(next(), next())]);
+            cases.push([a, b, a + (b - a) * t]);
+            cases.push([a, b, a]);
+            cases.push([a * 1e300, b * 1e-300, a + (b - a) * t]);
+        }
+        for x in [
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::NAN,
+            0.0,
+            -0.0,
+            f64::MIN_POSITIVE,
+        ] {
+            cases.push([
+                DVec2::new(x, 1.0),
+                DVec2::new(0.5, x),
+                DVec2::new(-0.25, 2.0),
+            ]);
+        }
+        let c = |p: DVec2| Coord { x: p.x, y: p.y };
+        for [a, b, p] in cases {
+            let (ours, theirs) = (orient(a, b, p), orient2d(c(a), c(b), c(p)));
+            assert_eq!(ours.to_bits(), theirs.to_bits(), "{a} {b} {p}");
+        }
+    }
 }

@@ -259,7 +259,8 @@ fn mean_edge_length(
     let mut first_use = |u: u32, v: u32| {
         let key = (u.min(v) as u64) << 32 | u.max(v) as u64;
         let mut h = (key.wrapping_mul(0x9e37_79b9_7f4a_7c15) >> shift) as usize;
-        while table[h] != key && table[h] != EMPTY {
+        // One branch, nearly always not taken (`&&` made two, each a coin toss).
+        while (table[h] != key) & (table[h] != EMPTY) {
             h = (h + 1) & mask;
         }
         let fresh = table[h] == EMPTY;

@@ -776,17 +776,20 @@ pub(crate) fn segment_triangle_gap2(a: DVec2, b: DVec2, t: [DVec2; 3]) -> Option
     for p in t {
         let ap = p - a;
         let u = ap.dot(ab);
-        slab &= u > 0.0 && u < len2;
+        slab &= (u > 0.0) & (u < len2);
         let c = ab.perp_dot(ap);
         lo = lo.min(c);
         hi = hi.max(c);
     }
     let tiny = 1e-9 * len2;
-    if slab && (lo > tiny || hi < -tiny) {
+    // `&` and `|`, not `&&` and `||`: the comparisons are cheap, and short-circuiting made a
+    // branch of each that went either way from face to face (the region's near test −6% on
+    // one thread).
+    if slab & ((lo > tiny) | (hi < -tiny)) {
         let c = if lo > 0.0 { lo } else { hi };
         return Some(c * c / len2);
     }
-    if (slab && lo < -tiny && hi > tiny) || segment_meets_triangle(a, b, t) {
+    if (slab & (lo < -tiny) & (hi > tiny)) || segment_meets_triangle(a, b, t) {
         return None;
     }
     // Apart: the nearest pair has an end point of one on the other.

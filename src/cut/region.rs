@@ -386,7 +386,8 @@ fn face_near(
     // Whether segment k meets the face (else its gap is taken).
     let mut meets = |k: u32| {
         let (p, q) = segments[k as usize];
-        if p.max(q).cmplt(lo).any() || p.min(q).cmpgt(hi).any() {
+        // One branch for the two boxes apart (as in `segment_triangle_gap2`).
+        if (p.max(q).cmplt(lo) | p.min(q).cmpgt(hi)).any() {
             return false;
         }
         match segment_triangle_gap2(p, q, s) {

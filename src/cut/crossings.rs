@@ -251,11 +251,12 @@ pub(crate) fn find_occurrences<'b>(
                         }
                         for k in in_window(&tpar, range, w) {
                             let (p, q) = (pts[k as usize], pts[k as usize + 1]);
-                            // Boxes apart: nothing to meet (exact: comparisons only).
-                            if p.x.max(q.x) < a.x.min(b.x)
-                                || p.x.min(q.x) > a.x.max(b.x)
-                                || p.y.max(q.y) < a.y.min(b.y)
-                                || p.y.min(q.y) > a.y.max(b.y)
+                            // Boxes apart: nothing to meet (exact: comparisons only; one
+                            // branch, not one per comparison).
+                            if (p.x.max(q.x) < a.x.min(b.x))
+                                | (p.x.min(q.x) > a.x.max(b.x))
+                                | (p.y.max(q.y) < a.y.min(b.y))
+                                | (p.y.min(q.y) > a.y.max(b.y))
                             {
                                 continue;
                             }
@@ -517,7 +518,8 @@ fn meets_only_at(
     far: DVec2,
 ) -> bool {
     // A range taken whole holds only the two pieces when it has two.
-    if j == NONE || j <= j0 || j >= j1 || (j1 - j0 <= WHOLE && j1 - j0 != 2) {
+    // One branch: whether an end is on a point changes from edge to edge.
+    if (j == NONE) | (j <= j0) | (j >= j1) | ((j1 - j0 <= WHOLE) & (j1 - j0 != 2)) {
         return false;
     }
     let j = j as usize;

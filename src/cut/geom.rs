@@ -41,7 +41,7 @@ pub(crate) fn orient(a: DVec2, b: DVec2, c: DVec2) -> f64 {
 /// Exact: compares coordinates only.
 #[inline]
 pub(crate) fn on_segment(a: DVec2, b: DVec2, p: DVec2) -> bool {
-    p.x >= a.x.min(b.x) && p.x <= a.x.max(b.x) && p.y >= a.y.min(b.y) && p.y <= a.y.max(b.y)
+    (p.x >= a.x.min(b.x)) & (p.x <= a.x.max(b.x)) & (p.y >= a.y.min(b.y)) & (p.y <= a.y.max(b.y))
 }
 
 /// Where p lies against triangle abc of orientation sign `sign` (±1): `Some(true)` strictly

@@ -453,7 +453,7 @@ impl Strip {
         let (cx, cy) = (self.d.perp_dot(x - self.a), self.d.perp_dot(y - self.a));
         // Both ends beyond the band on one side, as one branch (the four tests in turn went
         // either way with the side of the edge).
-        if (cx.min(cy) > tol) | (cx.max(cy) < -tol) {
+        if ((cx > tol) & (cy > tol)) | ((cx < -tol) & (cy < -tol)) {
             return None;
         }
         let band = 2.0 * self.unit * (1.0 + 2.0 * self.extent + m);

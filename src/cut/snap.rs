@@ -242,8 +242,7 @@ pub(crate) fn snap(
 /// Fold-over guard (spec §4 step 2, gap-fill): moving `v` to `q` keeps every non-degenerate
 /// face around it turning the same way, with area at least 1e-12·L².
 fn guard(region: &Region, v: u32, q: DVec2, min_area2: f64) -> bool {
-    // A select, not a branch: which corner is `v` changes from face to face.
-    let at = |x: u32| DVec2::select(glam::BVec2::splat(x == v), q, region.screen(x));
+    let at = |x: u32| if x == v { q } else { region.screen(x) };
     region.vertex_faces(v).iter().all(|&lf| {
         let sign = region.sign[lf as usize];
         if sign == 0.0 {

@@ -398,7 +398,7 @@ impl CellGrid {
     /// Segments near cell (cx, cy).
     #[inline]
     pub fn segments_at(&self, cx: i32, cy: i32) -> &[u32] {
-        self.segments_along(cy, cx, cx)
+        self.lists.at(cx, cy)
     }
 
     /// The lists of cells `x0..=x1` of row `cy`, one after the other (cells are stored in

@@ -517,8 +517,8 @@ fn meets_only_at(
     j: u32,
     far: DVec2,
 ) -> bool {
-    // A range taken whole holds only the two pieces when it has two.
-    // One branch: whether an end is on a point changes from edge to edge.
+    // A range taken whole holds only the two pieces when it has two. One branch: whether an
+    // end is on a point changes from edge to edge.
     if (j == NONE) | (j <= j0) | (j >= j1) | ((j1 - j0 <= WHOLE) & (j1 - j0 != 2)) {
         return false;
     }

@@ -100,12 +100,25 @@ impl Region {
             .with_min_len(1024)
             .map(|s| s.map_or((0, 0), |s| grid.cell(s.screen)))
             .collect();
-        let near: Vec<Near> = tri
-            .par_iter()
-            .with_min_len(1024)
-            .map(|&t| face_near(t, &seen, &cells, grid, segments, margin))
+        // L's parts beside the near test, one a job (a serial pass after it was a sixth of
+        // the region's build).
+        let mut near: Vec<Near> = vec![Near::AWAY; tri.len()];
+        let parts: Vec<LengthSum> = near
+            .par_chunks_mut(NEAR_JOB)
+            .zip(tri.par_chunks(NEAR_JOB))
+            .enumerate()
+            .map(|(job, (near, tri))| {
+                let mut part = LengthSum::default();
+                for (i, (n, &t)) in near.iter_mut().zip(tri).enumerate() {
+                    *n = face_near(t, &seen, &cells, grid, segments, margin);
+                    if n.met() {
+                        part.add((job * NEAR_JOB + i) as u32, t, &seen, &pos);
+                    }
+                }
+                part
+            })
             .collect();
-        let mut length = mean_edge_length(&tri, &near, &seen, &pos);
+        let mut length = mean_edge_length(parts);
         for f in &mut length.degenerate_met {
             *f = candidates.faces[*f as usize];
         }
@@ -223,77 +236,61 @@ pub(crate) struct EdgeLength {
     pub degenerate_met: Vec<u32>,
 }
 
-/// L: the mean screen (and world) length of the edges of projectable, non-degenerate faces
-/// that the stroke meets (gap-fill for seed 002 §3.2's "mean edge length", spec §4), each
-/// edge once, summed in face then corner order. `near[f].met()`: the stroke meets
-/// face `f` (whose corners are then all in front of the eye).
-fn mean_edge_length(
-    tri: &[[u32; 3]],
-    near: &[Near],
-    seen: &[Option<Seen>],
-    pos: &[DVec3],
-) -> EdgeLength {
-    let screen = |v: u32| {
-        seen[v as usize]
-            .expect("a face the stroke meets is projectable")
-            .screen
-    };
-    let pos = |v: u32| pos[v as usize];
-    // The met faces first, without a branch (a third of the faces, in no pattern: a test per
-    // face mispredicted on many).
-    let mut met = vec![0u32; tri.len()];
-    let mut k = 0;
-    for (lf, n) in near.iter().enumerate() {
-        met[k] = lf as u32;
-        k += n.met() as usize;
-    }
-    met.truncate(k);
-    // The edges seen so far, in an open-addressing table at least half empty. Whether an
-    // edge is new is a coin toss (most are met twice), so it is used as a value, not a
-    // branch: the probe stops at the edge or at an empty slot, and the slot is written either
-    // way; a list of edges per vertex, walked with branches, took 1.8 times as long.
-    const EMPTY: u64 = u64::MAX;
-    let slots = (6 * met.len()).next_power_of_two().max(16);
-    let (mask, shift) = (slots - 1, 64 - slots.trailing_zeros());
-    let mut table = vec![EMPTY; slots];
-    let mut first_use = |u: u32, v: u32| {
-        let key = (u.min(v) as u64) << 32 | u.max(v) as u64;
-        let mut h = (key.wrapping_mul(0x9e37_79b9_7f4a_7c15) >> shift) as usize;
-        // One branch, nearly always not taken (`&&` made two, each a coin toss).
-        while (table[h] != key) & (table[h] != EMPTY) {
-            h = (h + 1) & mask;
+/// Faces per job of the near test. Fixed, so L's parts (one a job, added in job order) and
+/// hence its bits do not depend on the thread count.
+const NEAR_JOB: usize = 1024;
+
+/// One job's part of L ([`mean_edge_length`]).
+#[derive(Default)]
+struct LengthSum {
+    px: f64,
+    world: f64,
+    /// Non-degenerate faces the stroke meets.
+    faces: u64,
+    /// Degenerate faces the stroke meets (local ids).
+    degenerate: Vec<u32>,
+}
+
+impl LengthSum {
+    /// Adds local face `lf` with corners `t`, which the stroke meets (so its corners are in
+    /// front of the eye).
+    #[inline]
+    fn add(&mut self, lf: u32, t: [u32; 3], seen: &[Option<Seen>], pos: &[DVec3]) {
+        let s = map3(t, |v| {
+            seen[v as usize]
+                .expect("a face the stroke meets is projectable")
+                .screen
+        });
+        let p = map3(t, |v| pos[v as usize]);
+        if is_degenerate(s[0], s[1], s[2], p) {
+            self.degenerate.push(lf);
+            return;
         }
-        let fresh = table[h] == EMPTY;
-        table[h] = key;
-        fresh
-    };
-    let (mut sum_px, mut sum_w, mut n) = (0.0, 0.0, 0u64);
+        self.px += (s[0] - s[1]).length() + (s[1] - s[2]).length() + (s[2] - s[0]).length();
+        self.world += (p[0] - p[1]).length() + (p[1] - p[2]).length() + (p[2] - p[0]).length();
+        self.faces += 1;
+    }
+}
+
+/// L: the mean screen (and world) length of the edges of the projectable, non-degenerate
+/// faces that the stroke meets, each face's three (gap-fill for seed 002 §3.2's "mean edge
+/// length", spec §4: a third of their mean perimeter; an edge two of them share counts for
+/// both). Per face, so that the near test's jobs sum it as they go: counting each edge once
+/// needed a table of the edges seen, in a serial pass after the test. `parts` in job order.
+fn mean_edge_length(parts: Vec<LengthSum>) -> EdgeLength {
+    let (mut px, mut world, mut faces) = (0.0, 0.0, 0u64);
     let mut degenerate_met = Vec::new();
-    for lf in met {
-        let t = &tri[lf as usize];
-        if is_degenerate(
-            screen(t[0]),
-            screen(t[1]),
-            screen(t[2]),
-            [pos(t[0]), pos(t[1]), pos(t[2])],
-        ) {
-            degenerate_met.push(lf);
-            continue;
-        }
-        for i in 0..3 {
-            let (u, v) = (t[i], t[(i + 1) % 3]);
-            let fresh = first_use(u, v);
-            // Adding 0.0 to a sum of lengths leaves its bits as they were.
-            let (px, w) = ((screen(u) - screen(v)).length(), (pos(u) - pos(v)).length());
-            sum_px += if fresh { px } else { 0.0 };
-            sum_w += if fresh { w } else { 0.0 };
-            n += fresh as u64;
-        }
+    for part in parts {
+        px += part.px;
+        world += part.world;
+        faces += part.faces;
+        degenerate_met.extend(part.degenerate);
     }
+    let n = 3 * faces;
     let (px, world) = if n == 0 {
         (0.0, 0.0)
     } else {
-        (sum_px / n as f64, sum_w / n as f64)
+        (px / n as f64, world / n as f64)
     };
     EdgeLength {
         px,

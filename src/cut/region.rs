@@ -35,6 +35,10 @@ pub(crate) struct Region {
     pub seen: Vec<Option<Seen>>,
     /// Whether every face around the vertex is in the region (it is within the snap distance).
     pub complete: Vec<bool>,
+    /// Whether the vertex can lie on the stroke: within the snap distance of it, plus a slack
+    /// far above rounding (the snapped polyline's points and segments are within a few ulps
+    /// of the stroke's segments, so a vertex beyond is on none of them).
+    pub on_band: Vec<bool>,
     /// Local edge of corner i → i+1 of each face.
     pub face_edges: Vec<[u32; 3]>,
     /// Endpoints of each local edge (ascending local ids).
@@ -138,11 +142,18 @@ impl Region {
         let (sign, cuttable) = face_signs(&tri, &seen, &pos, mode);
         // The visibility buckets (the longest) beside the adjacency and the per-vertex data.
         // The buckets' boxes are grown by the snap distance.
-        let complete = || -> Vec<bool> {
+        let complete = || -> (Vec<bool>, Vec<bool>) {
             // Within reach of the stroke: every face around is kept.
             seen.iter()
-                .map(|s| s.is_some_and(|s| grid.distance_to(s.screen, segments) <= reach))
-                .collect()
+                .map(|s| match s {
+                    Some(s) => {
+                        let d = grid.distance_to(s.screen, segments);
+                        let slack = 1e-9 * (1.0 + s.screen.abs().max_element());
+                        (d <= reach, d <= reach + slack)
+                    }
+                    None => (false, false),
+                })
+                .unzip()
         };
         let (buckets, (edge_table, complete)) = rayon::join(
             || {
@@ -164,6 +175,7 @@ impl Region {
         );
         let (edge_table, vf_start, vf_list) = edge_table;
         let (face_edges, edges, edge_faces) = edge_table?;
+        let (complete, on_band) = complete;
         let region = Region {
             faces,
             tri,
@@ -171,6 +183,7 @@ impl Region {
             pos,
             seen,
             complete,
+            on_band,
             face_edges,
             edges,
             edge_faces,

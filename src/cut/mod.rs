@@ -457,7 +457,7 @@ fn plan<'a>(
             .iter()
             .flat_map(|p| p.verts.windows(2).map(|w| (w[0].min(w[1]), w[0].max(w[1])))),
     );
-    cut_edges.sort_unstable();
+    radix::sort_pairs(&mut cut_edges);
     cut_edges.dedup();
     trace.mark("route");
 

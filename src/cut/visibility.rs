@@ -136,7 +136,7 @@ impl FaceBuckets {
                 }
                 let (lo, hi) = screen_box(t)?;
                 let cells = range(lo - pad, hi + pad)?;
-                let z = map3(tri[lf], |v| seen[v as usize].map_or(0.0, |s| s.z));
+                let z = map3(t, |v| seen[v as usize].map_or(0.0, |s| s.z));
                 let near = down(z[0].min(z[1]).min(z[2]));
                 let entry = Entry {
                     face: lf as u32,

@@ -99,13 +99,8 @@ mod tests {
     /// points, huge, tiny, infinite and NaN coordinates.
     #[test]
     fn orient_is_robusts_orient2d() {
-        let mut seed = 0x2545_f491_4f6c_dd1d_u64;
-        let mut next = || {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            (seed >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
-        };
+        let mut bits = crate::cut::radix::tests::xorshift(0x2545_f491_4f6c_dd1d);
+        let mut next = || (bits() >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0;
         let mut cases: Vec<[DVec2; 3]> = Vec::new();
         for _ in 0..20_000 {
             let (a, b) = (DVec2::new(next(), next()), DVec2::new(next(), next()));

@@ -149,11 +149,11 @@ pub(crate) fn sort_pairs(pairs: &mut Vec<(u32, u32)>) {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::{group_by_key, small_sort, sort_by_key, sort_pairs};
 
-    /// A deterministic xorshift64 stream from `seed` (non-zero).
-    fn xorshift(mut seed: u64) -> impl FnMut() -> u64 {
+    /// A deterministic xorshift64 stream from `seed` (non-zero), for the cut's unit tests.
+    pub(crate) fn xorshift(mut seed: u64) -> impl FnMut() -> u64 {
         move || {
             seed ^= seed << 13;
             seed ^= seed >> 7;

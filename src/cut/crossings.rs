@@ -144,9 +144,17 @@ pub(crate) fn find_occurrences<'b>(
     // has.
     let at: Vec<(DVec2, (i32, i32))> = region
         .seen
+        .screen
         .par_iter()
+        .zip(&region.seen.depth)
         .with_min_len(1024)
-        .map(|s| s.map_or((DVec2::NAN, (0, 0)), |s| (s.screen, grid.cell(s.screen))))
+        .map(|(&s, d)| {
+            if d.y > 0.0 {
+                (s, grid.cell(s))
+            } else {
+                (DVec2::NAN, (0, 0))
+            }
+        })
         .collect();
     let (locate, (chunks, on_stroke)) = rayon::join(make_locate, || {
         // Vertices on the stroke, once per vertex of a cuttable face (the edge loop would find
@@ -598,15 +606,12 @@ fn elem_moved(region: &Region, b: &Before, e: Elem) -> bool {
 pub(crate) fn elem_depth(region: &Region, o: &Occ) -> (f64, DVec3) {
     match o.elem {
         Elem::V(v) => (
-            region.seen[v as usize].expect("projectable").z,
+            region.seen.get(v).expect("projectable").z,
             region.pos[v as usize],
         ),
         Elem::E { edge, .. } => {
             let [a, b] = region.edges[edge as usize];
-            let (sa, sb) = (
-                region.seen[a as usize].unwrap(),
-                region.seen[b as usize].unwrap(),
-            );
+            let (sa, sb) = (region.seen.get(a).unwrap(), region.seen.get(b).unwrap());
             let s = o.edge_t;
             let t = s * sa.w / ((1.0 - s) * sb.w + s * sa.w);
             (

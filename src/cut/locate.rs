@@ -81,11 +81,7 @@ impl PointFaces {
                 (upto[c1] != upto[c0]) | (marked[c0 / 64] >> (c0 % 64) & 1 == 1)
             };
             // Each vertex's screen x once (NaN behind the eye: its faces are skipped).
-            let xs: Vec<f64> = region
-                .seen
-                .iter()
-                .map(|s| s.map_or(f64::NAN, |s| s.screen.x))
-                .collect();
+            let xs: Vec<f64> = region.seen.screen.iter().map(|s| s.x).collect();
             for (lf, t) in region.tri.iter().enumerate() {
                 let x = map3(*t, |v| xs[v as usize]);
                 let (lo, hi) = (x[0].min(x[1]).min(x[2]), x[0].max(x[1]).max(x[2]));

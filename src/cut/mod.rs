@@ -256,7 +256,7 @@ fn plan<'a>(
         .with_min_len(256)
         .map(|v| {
             let faces = region.vertex_faces(v);
-            let Some(seen) = region.seen[v as usize] else {
+            let Some(seen) = region.seen.get(v) else {
                 return false;
             };
             let movable = region.complete[v as usize]

@@ -14,12 +14,14 @@ use rayon::prelude::*;
 use super::candidates::{segment_triangle_gap2, CellGrid, Kept};
 use super::geom::{map3, orient};
 use super::options::{CutMode, CutOptions};
-use super::view::{Projector, Seen};
+use super::view::{split_seen, Projector, SeenList};
 use super::visibility::FaceBuckets;
 use crate::error::{Error, Result};
 use crate::mesh::PolyMesh;
 
 pub(crate) const NONE: u32 = u32::MAX;
+/// The grid cell x of a vertex behind the eye, in the region's build.
+const BEHIND_CELL: i32 = i32::MIN;
 
 /// Local data of the candidate faces. `lf` indexes faces, `lv` vertices, `le` edges.
 #[derive(Debug, Clone)]
@@ -31,8 +33,8 @@ pub(crate) struct Region {
     /// Global vertex ids, ascending.
     pub verts: Vec<u32>,
     pub pos: Vec<DVec3>,
-    /// `None` behind the eye.
-    pub seen: Vec<Option<Seen>>,
+    /// Each vertex as seen (NaN behind the eye).
+    pub seen: SeenList,
     /// Whether every face around the vertex is in the region (it is within the snap distance).
     pub complete: Vec<bool>,
     /// Whether the vertex can lie on the stroke: within the snap distance of it, plus a slack
@@ -86,7 +88,7 @@ impl Region {
         // projection so the misses overlap, and prefetched a few vertices ahead (on a mesh
         // whose vertex order is not spatial, a subdivided one, nearly every read misses).
         let ps = mesh.positions();
-        let (pos, seen): (Vec<DVec3>, Vec<Option<Seen>>) = (0..verts.len())
+        let (pos, seen): (Vec<DVec3>, (Vec<DVec2>, Vec<DVec2>)) = (0..verts.len())
             .into_par_iter()
             .with_min_len(1024)
             .map(|i| {
@@ -94,15 +96,27 @@ impl Region {
                     crate::mem::prefetch(ps.as_ptr().wrapping_add(ahead as usize));
                 }
                 let p = ps[verts[i] as usize];
-                (p, proj.see(p))
+                (p, split_seen(proj.see(p)))
             })
             .unzip();
+        let seen = SeenList::from(seen);
         // Membership measured on screen, each vertex projected once and placed in its grid
-        // cell once (a face's cell range is its corners' least and greatest).
+        // cell once (a face's cell range is its corners' least and greatest); behind the eye,
+        // `BEHIND_CELL`, so the near test tells a clipped face from the cells it reads anyway.
         let cells: Vec<(i32, i32)> = seen
+            .screen
             .par_iter()
+            .zip(&seen.depth)
             .with_min_len(1024)
-            .map(|s| s.map_or((0, 0), |s| grid.cell(s.screen)))
+            .map(|(&s, d)| {
+                if d.y > 0.0 {
+                    // Far left of the grid either way, but never taken for behind the eye.
+                    let (cx, cy) = grid.cell(s);
+                    (cx.max(BEHIND_CELL + 1), cy)
+                } else {
+                    (BEHIND_CELL, 0)
+                }
+            })
             .collect();
         // L's parts beside the near test, one a job (a serial pass after it was a sixth of
         // the region's build).
@@ -144,8 +158,8 @@ impl Region {
         // The buckets' boxes are grown by the snap distance.
         let complete = || -> (Vec<bool>, Vec<bool>) {
             // Within reach of the stroke: every face around is kept.
-            seen.iter()
-                .map(|s| match s {
+            (0..seen.len() as u32)
+                .map(|v| match seen.get(v) {
                     Some(s) => {
                         let d = grid.distance_to(s.screen, segments);
                         let slack = 1e-9 * (1.0 + s.screen.abs().max_element());
@@ -209,7 +223,8 @@ impl Region {
     /// Screen position of a projectable local vertex.
     #[inline]
     pub fn screen(&self, v: u32) -> DVec2 {
-        self.seen[v as usize].expect("a projectable vertex").screen
+        debug_assert!(self.seen.front(v), "a projectable vertex");
+        self.seen.screen[v as usize]
     }
 
     /// Screen corners of a projectable face.
@@ -221,9 +236,7 @@ impl Region {
     /// Whether a face's corners are all in front of the eye.
     #[inline]
     pub fn projectable(&self, lf: u32) -> bool {
-        self.tri[lf as usize]
-            .iter()
-            .all(|&v| self.seen[v as usize].is_some())
+        self.tri[lf as usize].iter().all(|&v| self.seen.front(v))
     }
 }
 
@@ -268,12 +281,9 @@ impl LengthSum {
     /// Adds local face `lf` with corners `t`, which the stroke meets (so its corners are in
     /// front of the eye).
     #[inline]
-    fn add(&mut self, lf: u32, t: [u32; 3], seen: &[Option<Seen>], pos: &[DVec3]) {
-        let s = map3(t, |v| {
-            seen[v as usize]
-                .expect("a face the stroke meets is projectable")
-                .screen
-        });
+    fn add(&mut self, lf: u32, t: [u32; 3], seen: &SeenList, pos: &[DVec3]) {
+        debug_assert!(seen.front3(t), "a face the stroke meets is projectable");
+        let s = map3(t, |v| seen.screen[v as usize]);
         let p = map3(t, |v| pos[v as usize]);
         if is_degenerate(s[0], s[1], s[2], p) {
             self.degenerate.push(lf);
@@ -359,16 +369,17 @@ impl Near {
 /// topological decision is taken later by exact predicates.
 fn face_near(
     t: [u32; 3],
-    seen: &[Option<Seen>],
+    seen: &SeenList,
     cells: &[(i32, i32)],
     grid: &CellGrid,
     segments: &[(DVec2, DVec2)],
     margin: f64,
 ) -> Near {
-    let [Some(a), Some(b), Some(c)] = map3(t, |v| seen[v as usize]) else {
+    let c = map3(t, |v| cells[v as usize]);
+    if (c[0].0 == BEHIND_CELL) | (c[1].0 == BEHIND_CELL) | (c[2].0 == BEHIND_CELL) {
         return Near(0.0);
-    };
-    let s = [a.screen, b.screen, c.screen];
+    }
+    let s = map3(t, |v| seen.screen[v as usize]);
     let keep = keep_radius(margin);
     let pad = DVec2::splat(keep);
     let (lo, hi) = (s[0].min(s[1]).min(s[2]), s[0].max(s[1]).max(s[2]));
@@ -380,7 +391,6 @@ fn face_near(
     // box is farther than `keep` are skipped: they cannot be the nearest within it. A box at
     // most three cells across takes its middle cell's wide list instead: the segments it adds
     // are farther than `keep`, so they neither meet the face nor lower a gap within `keep`.
-    let c = map3(t, |v| cells[v as usize]);
     let Some((x0, y0, x1, y1)) = grid.clamp(
         (
             c[0].0.min(c[1].0).min(c[2].0),
@@ -444,7 +454,7 @@ struct NearFaces {
     faces: Vec<u32>,
     tri: Vec<[u32; 3]>,
     verts: Vec<u32>,
-    seen: Vec<Option<Seen>>,
+    seen: SeenList,
     pos: Vec<DVec3>,
 }
 
@@ -455,7 +465,7 @@ fn keep_near(
     candidates: &[u32],
     tri: Vec<[u32; 3]>,
     mut verts: Vec<u32>,
-    mut seen: Vec<Option<Seen>>,
+    mut seen: SeenList,
     mut pos: Vec<DVec3>,
     near: &[Near],
     reach: f64,
@@ -483,12 +493,14 @@ fn keep_near(
     for v in 0..nv {
         new_id[v] = c as u32;
         verts[c] = verts[v];
-        seen[c] = seen[v];
+        seen.screen[c] = seen.screen[v];
+        seen.depth[c] = seen.depth[v];
         pos[c] = pos[v];
         c += used[v] as usize;
     }
     verts.truncate(c);
-    seen.truncate(c);
+    seen.screen.truncate(c);
+    seen.depth.truncate(c);
     pos.truncate(c);
     let faces = kept.iter().map(|&i| candidates[i as usize]).collect();
     let tri2 = kept
@@ -505,17 +517,12 @@ fn keep_near(
 }
 
 /// [`Region::lift`] on triangle `t` of vertices seen as `seen` at `pos`.
-pub(crate) fn lift_with(
-    seen: &[Option<Seen>],
-    pos: &[DVec3],
-    t: [u32; 3],
-    l: [f64; 3],
-) -> (f64, DVec3) {
-    let seen = map3(t, |v| {
-        seen[v as usize].expect("a candidate face is projectable")
-    });
-    let z = l[0] * seen[0].z + l[1] * seen[1].z + l[2] * seen[2].z;
-    let m = [l[0] / seen[0].w, l[1] / seen[1].w, l[2] / seen[2].w];
+pub(crate) fn lift_with(seen: &SeenList, pos: &[DVec3], t: [u32; 3], l: [f64; 3]) -> (f64, DVec3) {
+    debug_assert!(seen.front3(t), "a candidate face is projectable");
+    // (z, w) of each corner.
+    let d = map3(t, |v| seen.depth[v as usize]);
+    let z = l[0] * d[0].x + l[1] * d[1].x + l[2] * d[2].x;
+    let m = [l[0] / d[0].y, l[1] / d[1].y, l[2] / d[2].y];
     let x = (pos[t[0] as usize] * m[0] + pos[t[1] as usize] * m[1] + pos[t[2] as usize] * m[2])
         / (m[0] + m[1] + m[2]);
     (z, x)
@@ -740,25 +747,22 @@ fn vertex_faces_csr(tri: &[[u32; 3]], nv: usize) -> (Vec<u32>, Vec<u32>, Vec<u32
 /// cut may split it, on rayon.
 fn face_signs(
     tri: &[[u32; 3]],
-    seen: &[Option<Seen>],
+    seen: &SeenList,
     pos: &[DVec3],
     mode: CutMode,
 ) -> (Vec<f64>, Vec<bool>) {
     tri.par_iter()
         .with_min_len(2048)
         .map(|t| {
-            let (Some(a), Some(b), Some(c)) = (
-                seen[t[0] as usize],
-                seen[t[1] as usize],
-                seen[t[2] as usize],
-            ) else {
-                return (0.0, false);
-            };
-            let p = [pos[t[0] as usize], pos[t[1] as usize], pos[t[2] as usize]];
-            if is_degenerate(a.screen, b.screen, c.screen, p) {
+            if !seen.front3(*t) {
                 return (0.0, false);
             }
-            let o = orient(a.screen, b.screen, c.screen);
+            let [a, b, c] = map3(*t, |v| seen.screen[v as usize]);
+            let p = [pos[t[0] as usize], pos[t[1] as usize], pos[t[2] as usize]];
+            if is_degenerate(a, b, c, p) {
+                return (0.0, false);
+            }
+            let o = orient(a, b, c);
             // Front-facing = counter-clockwise in y-up NDC = negative orient on the y-down
             // screen.
             let cuttable = match mode {

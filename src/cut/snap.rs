@@ -256,13 +256,11 @@ fn guard(region: &Region, v: u32, q: DVec2, min_area2: f64) -> bool {
 }
 
 fn apply(region: &mut Region, proj: &Projector, v: u32, q: DVec2) -> (u32, DVec3, DVec3, f64) {
-    let seen = region.seen[v as usize]
-        .as_mut()
-        .expect("a projectable vertex");
+    let seen = region.seen.get(v).expect("a projectable vertex");
     let from = region.pos[v as usize];
     let px = (q - seen.screen).length();
     let to = proj.unproject(q, seen.w, seen.z);
-    seen.screen = q;
+    region.seen.screen[v as usize] = q;
     region.pos[v as usize] = to;
     (v, from, to, px)
 }

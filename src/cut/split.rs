@@ -129,7 +129,7 @@ impl<'r> Splitter<'r> {
 
     fn screen_or_zero(&self, v: u32) -> DVec2 {
         if v < self.n0() {
-            self.r.seen[v as usize].map_or(DVec2::ZERO, |s| s.screen)
+            self.r.seen.get(v).map_or(DVec2::ZERO, |s| s.screen)
         } else {
             self.new_screen[(v - self.n0()) as usize]
         }

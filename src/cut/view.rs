@@ -60,6 +60,60 @@ pub(crate) struct Seen {
     pub z: f64,
 }
 
+/// The [`Seen`] of many vertices, as two arrays: screen points are read far more often than
+/// depths (snapping's guards, faces' corners on screen), and as `Option<Seen>`s of 40 bytes
+/// half of them lay across two cache lines. Behind the eye, w and the screen point are NaN.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct SeenList {
+    pub screen: Vec<DVec2>,
+    /// (NDC z, clip w) of each vertex.
+    pub depth: Vec<DVec2>,
+}
+
+impl SeenList {
+    pub fn len(&self) -> usize {
+        self.screen.len()
+    }
+
+    /// Vertex `v` as seen, `None` behind the eye.
+    #[inline]
+    pub fn get(&self, v: u32) -> Option<Seen> {
+        let d = self.depth[v as usize];
+        (d.y > 0.0).then(|| Seen {
+            screen: self.screen[v as usize],
+            w: d.y,
+            z: d.x,
+        })
+    }
+
+    /// Whether vertex `v` is in front of the eye.
+    #[inline]
+    pub fn front(&self, v: u32) -> bool {
+        self.depth[v as usize].y > 0.0
+    }
+
+    /// Whether a face's corners `t` are all in front of the eye (one branch, at the caller).
+    #[inline]
+    pub fn front3(&self, t: [u32; 3]) -> bool {
+        self.front(t[0]) & self.front(t[1]) & self.front(t[2])
+    }
+}
+
+impl From<(Vec<DVec2>, Vec<DVec2>)> for SeenList {
+    fn from((screen, depth): (Vec<DVec2>, Vec<DVec2>)) -> Self {
+        SeenList { screen, depth }
+    }
+}
+
+/// A [`SeenList`] entry: screen point and (z, w), NaN behind the eye.
+#[inline]
+pub(crate) fn split_seen(s: Option<Seen>) -> (DVec2, DVec2) {
+    match s {
+        Some(s) => (s.screen, DVec2::new(s.z, s.w)),
+        None => (DVec2::NAN, DVec2::NAN),
+    }
+}
+
 /// The checked view with its inverse, shared by every stage.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct Projector {

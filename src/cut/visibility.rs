@@ -23,7 +23,7 @@ use super::candidates::{cell_of, CellGrid};
 use super::geom::{barycentric, in_triangle, map3};
 use super::radix::{f32_key, sort_by_key};
 use super::region::{lift_with, Region};
-use super::view::Seen;
+use super::view::SeenList;
 
 /// Faces whose screen boxes size the buckets' cells ([`FaceBuckets::new`]).
 const SIZE_SAMPLE: usize = 512;
@@ -75,7 +75,7 @@ impl FaceBuckets {
     pub fn new(
         tri: &[[u32; 3]],
         sign: &[f64],
-        seen: &[Option<Seen>],
+        seen: &SeenList,
         pos: &[DVec3],
         grid: &CellGrid,
         depth_eps_rel: f64,
@@ -90,8 +90,11 @@ impl FaceBuckets {
         );
         // The screen box of a projectable face.
         let screen_box = |t: [u32; 3]| {
-            let [a, b, c] = map3(t, |v| seen[v as usize].map(|s| s.screen));
-            Some((a?.min(b?).min(c?), a?.max(b?).max(c?)))
+            if !seen.front3(t) {
+                return None;
+            }
+            let [a, b, c] = map3(t, |v| seen.screen[v as usize]);
+            Some((a.min(b).min(c), a.max(b).max(c)))
         };
         // The mean box size from evenly spaced faces (it only sizes the cells): a pass over
         // every box before the one that buckets them made the region 9% slower on the 1M
@@ -136,7 +139,7 @@ impl FaceBuckets {
                 }
                 let (lo, hi) = screen_box(t)?;
                 let cells = range(lo - pad, hi + pad)?;
-                let z = map3(t, |v| seen[v as usize].map_or(0.0, |s| s.z));
+                let z = map3(t, |v| seen.depth[v as usize].x);
                 let near = down(z[0].min(z[1]).min(z[2]));
                 let entry = Entry {
                     face: lf as u32,
@@ -269,17 +272,14 @@ impl FaceBuckets {
         &self,
         t: [u32; 3],
         sign: f64,
-        seen: &[Option<Seen>],
+        seen: &SeenList,
         pos: &[DVec3],
         s: DVec2,
         z: f64,
         x: DVec3,
     ) -> bool {
-        let [a, b, c] = map3(t, |v| {
-            seen[v as usize]
-                .expect("a bucketed face is projectable")
-                .screen
-        });
+        debug_assert!(seen.front3(t), "a bucketed face is projectable");
+        let [a, b, c] = map3(t, |v| seen.screen[v as usize]);
         if in_triangle(a, b, c, sign, s).is_none() {
             return false;
         }
@@ -290,7 +290,7 @@ impl FaceBuckets {
 
 /// The region's vertices as they were before snapping, and which ones moved.
 pub(crate) struct Before {
-    seen: Vec<Option<Seen>>,
+    seen: SeenList,
     pos: Vec<DVec3>,
     moved: Vec<bool>,
 }

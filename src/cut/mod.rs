@@ -459,6 +459,23 @@ fn plan<'a>(
     );
     radix::sort_pairs(&mut cut_edges);
     cut_edges.dedup();
+    // Where each vertex's path edges to larger ids start (they are sorted by smaller end):
+    // the flips ask of every inner diagonal whether it is a path edge, and a binary search
+    // of all the path edges for each took a third of that step.
+    let nv_local = region.verts.len() + sp.new_pos.len();
+    let mut path_from = vec![0u32; nv_local + 1];
+    for &(a, _) in &cut_edges {
+        path_from[a as usize + 1] += 1;
+    }
+    for v in 0..nv_local {
+        path_from[v + 1] += path_from[v];
+    }
+    let is_path_edge = |a: u32, b: u32| {
+        let (x, y) = (a.min(b) as usize, a.max(b));
+        cut_edges[path_from[x] as usize..path_from[x + 1] as usize]
+            .iter()
+            .any(|e| e.1 == y)
+    };
     trace.mark("route");
 
     // The report's parts that do not read the splitter, beside the flips (which only change
@@ -473,7 +490,7 @@ fn plan<'a>(
         })
     };
     let ((), report) = rayon::join(
-        || sp.improve(&|a, b| cut_edges.binary_search(&(a.min(b), a.max(b))).is_ok()),
+        || sp.improve(&is_path_edge),
         || {
             report_parts(
                 &prep,

@@ -225,8 +225,9 @@ mod simd {
     }
 }
 
-/// Rounds of the side-by-side measurement.
-const ROUNDS: usize = 9;
+/// Rounds of the side-by-side measurement: each is one timed call of every kind, so their
+/// medians need many (with 9, one run's two ratios of the same calls differed by a tenth).
+const ROUNDS: usize = 25;
 
 fn time(f: impl FnOnce()) -> Duration {
     let s = Instant::now();

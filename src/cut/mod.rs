@@ -461,7 +461,7 @@ fn plan<'a>(
     cut_edges.dedup();
     // Where each vertex's path edges to larger ids start (they are sorted by smaller end):
     // the flips ask of every inner diagonal whether it is a path edge, and a binary search
-    // of all the path edges for each took a third of that step.
+    // of all the path edges for each took a quarter of that step.
     let nv_local = region.verts.len() + sp.new_pos.len();
     let mut path_from = vec![0u32; nv_local + 1];
     for &(a, _) in &cut_edges {

@@ -128,7 +128,7 @@ impl Region {
             .map(|(job, (near, tri))| {
                 let mut part = LengthSum::default();
                 for (i, (n, &t)) in near.iter_mut().zip(tri).enumerate() {
-                    *n = face_near(t, &seen, &cells, grid, segments, margin);
+                    *n = face_near(t, &seen.screen, &cells, grid, segments, margin);
                     if n.met() {
                         part.add((job * NEAR_JOB + i) as u32, t, &seen, &pos);
                     }
@@ -366,10 +366,11 @@ impl Near {
 /// ([`segment_triangle_gap2`]). Plain f64 with a relative slack on the margin: membership
 /// only needs to be conservative (a face around a vertex within the margin is at most as
 /// far as that vertex, up to rounding far below the slack), and L is a mean; every
-/// topological decision is taken later by exact predicates.
+/// topological decision is taken later by exact predicates. `screen` and `cells`: the
+/// vertices' screen points and grid cells ([`BEHIND_CELL`] behind the eye).
 fn face_near(
     t: [u32; 3],
-    seen: &SeenList,
+    screen: &[DVec2],
     cells: &[(i32, i32)],
     grid: &CellGrid,
     segments: &[(DVec2, DVec2)],
@@ -379,7 +380,7 @@ fn face_near(
     if (c[0].0 == BEHIND_CELL) | (c[1].0 == BEHIND_CELL) | (c[2].0 == BEHIND_CELL) {
         return Near(0.0);
     }
-    let s = map3(t, |v| seen.screen[v as usize]);
+    let s = map3(t, |v| screen[v as usize]);
     let keep = keep_radius(margin);
     let pad = DVec2::splat(keep);
     let (lo, hi) = (s[0].min(s[1]).min(s[2]), s[0].max(s[1]).max(s[2]));

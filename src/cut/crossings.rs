@@ -142,18 +142,12 @@ pub(crate) fn find_occurrences<'b>(
     // Each vertex's screen point and grid cell side by side, once (an edge's cell range is
     // its ends' least and greatest); NaN for a vertex behind the eye, which no cuttable face
     // has.
-    let at: Vec<(DVec2, (i32, i32))> = region
-        .seen
-        .screen
-        .par_iter()
-        .zip(&region.seen.depth)
+    let at: Vec<(DVec2, (i32, i32))> = (0..region.verts.len() as u32)
+        .into_par_iter()
         .with_min_len(1024)
-        .map(|(&s, d)| {
-            if d.y > 0.0 {
-                (s, grid.cell(s))
-            } else {
-                (DVec2::NAN, (0, 0))
-            }
+        .map(|v| match region.seen.get(v) {
+            Some(s) => (s.screen, grid.cell(s.screen)),
+            None => (DVec2::NAN, (0, 0)),
         })
         .collect();
     let (locate, (chunks, on_stroke)) = rayon::join(make_locate, || {

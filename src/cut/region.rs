@@ -108,8 +108,8 @@ impl Region {
             .par_iter()
             .zip(&seen.depth)
             .with_min_len(1024)
-            .map(|(&s, d)| {
-                if d.y > 0.0 {
+            .map(|(&s, &d)| {
+                if SeenList::in_front(d) {
                     // Far left of the grid either way, but never taken for behind the eye.
                     let (cx, cy) = grid.cell(s);
                     (cx.max(BEHIND_CELL + 1), cy)

@@ -79,7 +79,7 @@ impl SeenList {
     #[inline]
     pub fn get(&self, v: u32) -> Option<Seen> {
         let d = self.depth[v as usize];
-        (d.y > 0.0).then(|| Seen {
+        Self::in_front(d).then(|| Seen {
             screen: self.screen[v as usize],
             w: d.y,
             z: d.x,
@@ -89,7 +89,14 @@ impl SeenList {
     /// Whether vertex `v` is in front of the eye.
     #[inline]
     pub fn front(&self, v: u32) -> bool {
-        self.depth[v as usize].y > 0.0
+        Self::in_front(self.depth[v as usize])
+    }
+
+    /// Whether a `depth` entry, (z, w), is of a vertex in front of the eye (for passes that
+    /// walk the arrays side by side).
+    #[inline]
+    pub fn in_front(depth: DVec2) -> bool {
+        depth.y > 0.0
     }
 
     /// Whether a face's corners `t` are all in front of the eye (one branch, at the caller).

@@ -26,7 +26,7 @@ use crate::mesh::VertexId;
 pub(crate) const BEHIND: u32 = u32::MAX;
 const CHUNK: usize = 1 << 14;
 /// Faces rejected together in pass 2 (a divisor of `CHUNK`).
-const BLOCK: usize = 16;
+pub(crate) const BLOCK: usize = 16;
 /// How far (in cells) the "near" marks reach around the band: faces spanning up to this many
 /// cells are rejected from their corners' bits alone. Cells are about one mean edge long and
 /// edges vary, so 1 sent a quarter of a dense mesh's faces to the slow test; 4 sends few
@@ -359,7 +359,7 @@ impl CellGrid {
 
     /// Whether any cell of the inclusive range `(x0, y0, x1, y1)` is marked, cell by cell
     /// (the rest of the range off the grid).
-    fn box_marked(&self, (x0, y0, x1, y1): (i32, i32, i32, i32)) -> bool {
+    pub(crate) fn box_marked(&self, (x0, y0, x1, y1): (i32, i32, i32, i32)) -> bool {
         if x1 < 0 || y1 < 0 || x0 >= self.nx || y0 >= self.ny {
             return false;
         }
@@ -460,7 +460,7 @@ fn cell_pairs(
 
 /// The inclusive cell range `(x0, y0, x1, y1)` of three packed codes (not behind the eye).
 #[inline]
-fn cell_box(codes: [u32; 3]) -> (i32, i32, i32, i32) {
+pub(crate) fn cell_box(codes: [u32; 3]) -> (i32, i32, i32, i32) {
     let xs = codes.map(|c| (c & 0xffff) as i32 - 1);
     let ys = codes.map(|c| ((c >> 16) & 0xfff) as i32 - 1);
     (
@@ -607,7 +607,7 @@ pub(crate) fn candidate_faces(
     codes: &[u32],
     grid: &CellGrid,
 ) -> (Kept, Vec<u32>) {
-    // Near blocks sixteen faces at a time with AVX-512 (`faces_simd`).
+    // Whole blocks sixteen faces at a time with AVX-512 (`faces_simd`).
     #[cfg(target_arch = "x86_64")]
     let wide = std::arch::is_x86_feature_detected!("avx512f") && codes.len() <= i32::MAX as usize;
     let chunks: Vec<(Kept, Vec<u32>)> = corners
@@ -617,64 +617,39 @@ pub(crate) fn candidate_faces(
             let base = (ci * CHUNK) as u32;
             let mut keep = Kept::default();
             let mut clipped = Vec::new();
+            #[allow(unused_mut)]
+            let mut done = 0;
+            // SAFETY: AVX-512 F is there; a PolyMesh's corners name its vertices, and there
+            // are at most i32::MAX of them (`wide`).
+            #[cfg(target_arch = "x86_64")]
+            if wide {
+                done = unsafe {
+                    super::faces_simd::scan_blocks(
+                        as_ids(chunk),
+                        codes,
+                        grid,
+                        base,
+                        &mut keep,
+                        &mut clipped,
+                    )
+                };
+            }
             let code = |v: VertexId| {
                 debug_assert!(v.idx() < codes.len());
                 // SAFETY: a PolyMesh's corners name its vertices (every constructor checks
                 // it), and there is a code per vertex. Unchecked: an eighth of this pass.
                 unsafe { *codes.get_unchecked(v.idx()) }
             };
-            // Room for the kept faces at the first near block (most chunks have none; growing
-            // from nothing reallocated a dozen times, under the allocator's lock).
-            let reserve = |keep: &mut Kept| {
-                if keep.faces.capacity() == 0 {
-                    keep.faces.reserve(CHUNK / 16);
-                    keep.corners.reserve(CHUNK / 16);
-                }
-            };
             // Blocks of faces rejected together: one branch per block, not per face, took
             // a quarter off this pass; a block with a face near the stroke is gone through
-            // again lane by lane or face by face (few are: faces near each other in the mesh
-            // are mostly near each other in the face order too).
-            for (bi, block) in chunk.chunks(3 * BLOCK).enumerate() {
+            // again face by face (few are: faces near each other in the mesh are mostly near
+            // each other in the face order too).
+            for (bi, block) in chunk.chunks(3 * BLOCK).enumerate().skip(done / BLOCK) {
                 // The corner stream asked for 16 blocks (3 KiB) ahead: the hardware's stream
                 // prefetch alone left this pass waiting on it (torus −4% to −10%, spot equal,
                 // side by side on the same cuts).
                 for line in 0..3 {
                     crate::mem::prefetch(block.as_ptr().wrapping_add(3 * BLOCK * 16 + 16 * line));
-                }
-                // Whole blocks with AVX-512: the block test and the near blocks' faces, sixteen
-                // lanes at a time.
-                #[cfg(target_arch = "x86_64")]
-                if let (true, Ok(b)) = (wide, <&[VertexId; 3 * BLOCK]>::try_from(block)) {
-                    // SAFETY: AVX-512 F is there; a PolyMesh's corners name its vertices, and
-                    // there are at most i32::MAX of them (`wide`).
-                    let corners = unsafe { super::faces_simd::gather(as_ids(b), codes) };
-                    // SAFETY: as above (the CPU has AVX-512 F).
-                    if !unsafe { super::faces_simd::block_not_away(&corners) } {
-                        continue;
-                    }
-                    reserve(&mut keep);
-                    // SAFETY: as above; the near block's faces from the same gathers.
-                    let lanes = unsafe { super::faces_simd::near_block(&corners) };
-                    let mut todo = lanes.keep | lanes.scan;
-                    while todo != 0 {
-                        let i = todo.trailing_zeros() as usize;
-                        todo &= todo - 1;
-                        let t = &b[3 * i..3 * i + 3];
-                        // The lanes did `any_marked`'s tests up to its scan.
-                        if lanes.scan >> i & 1 != 0
-                            && !grid.box_marked(cell_box([code(t[0]), code(t[1]), code(t[2])]))
-                        {
-                            continue;
-                        }
-                        let f = base + (bi * BLOCK + i) as u32;
-                        keep.faces.push(f);
-                        keep.corners.push([t[0].0, t[1].0, t[2].0]);
-                        if lanes.straddles >> i & 1 != 0 {
-                            clipped.push(f);
-                        }
-                    }
-                    continue;
                 }
                 // Fixed length (unrolled) but for a mesh's last block.
                 let near = match <&[VertexId; 3 * BLOCK]>::try_from(block) {
@@ -686,7 +661,7 @@ pub(crate) fn candidate_faces(
                 if near == 0 {
                     continue;
                 }
-                reserve(&mut keep);
+                keep.reserve_first();
                 for (i, t) in block.chunks_exact(3).enumerate() {
                     let c = [code(t[0]), code(t[1]), code(t[2])];
                     if not_away(c) == 0 {
@@ -723,11 +698,11 @@ pub(crate) fn candidate_faces(
     (keep, clipped)
 }
 
-/// A block's corners as plain ids.
+/// Corners as plain ids.
 #[cfg(target_arch = "x86_64")]
-fn as_ids(b: &[VertexId; 3 * BLOCK]) -> &[u32; 3 * BLOCK] {
+fn as_ids(c: &[VertexId]) -> &[u32] {
     // SAFETY: VertexId is a transparent u32.
-    unsafe { &*(b as *const [VertexId; 3 * BLOCK]).cast() }
+    unsafe { std::slice::from_raw_parts(c.as_ptr().cast(), c.len()) }
 }
 
 /// Kept faces (ascending) and their corners (global vertex ids).
@@ -735,6 +710,18 @@ fn as_ids(b: &[VertexId; 3 * BLOCK]) -> &[u32; 3 * BLOCK] {
 pub(crate) struct Kept {
     pub faces: Vec<u32>,
     pub corners: Vec<[u32; 3]>,
+}
+
+impl Kept {
+    /// Room for a chunk's kept faces, at its first near block (most chunks have none;
+    /// growing from nothing reallocated a dozen times, under the allocator's lock).
+    #[inline]
+    pub fn reserve_first(&mut self) {
+        if self.faces.capacity() == 0 {
+            self.faces.reserve(CHUNK / 16);
+            self.corners.reserve(CHUNK / 16);
+        }
+    }
 }
 
 /// Whether a segment and a triangle on screen meet (touching counts), f64.
@@ -1046,6 +1033,9 @@ mod tests {
             |cx: i32, cy: i32| ((cy.clamp(-1, ny) + 1) * (nx + 2) + cx.clamp(-1, nx) + 1) as u32;
         let behind = codes.len() as u32 - 1;
         let (mut kept, mut scanned, mut not_away_blocks) = (0, 0, 0);
+        // Every block, and what the face loop keeps and clips of them, for the whole-run scan.
+        let (mut all, mut loop_kept, mut loop_clipped) =
+            (Vec::new(), super::Kept::default(), Vec::new());
         for round in 0..20_000 {
             let mut block = [0u32; 48];
             // Every other block: small faces away from the band but for one face in some
@@ -1103,8 +1093,37 @@ mod tests {
                 assert!(!(bit(lanes.keep) && bit(lanes.scan)));
                 kept += loop_keeps as u32;
                 scanned += bit(lanes.scan) as u32;
+                let face = (all.len() / 3) as u32;
+                if loop_keeps {
+                    loop_kept.faces.push(face);
+                    loop_kept.corners.push([f[0], f[1], f[2]]);
+                }
+                if straddles && super::not_away(c) != 0 {
+                    loop_clipped.push(face);
+                }
+                all.extend_from_slice(f);
             }
         }
+        // The whole run, from a face number not a multiple of 16 (as a chunk's first face is
+        // not, in general, of the run's): the same faces, corners and clipped faces.
+        let (mut scan_kept, mut scan_clipped) = (super::Kept::default(), Vec::new());
+        let base = 7;
+        // SAFETY: AVX-512 F checked; every id names a code.
+        let done = unsafe {
+            super::super::faces_simd::scan_blocks(
+                &all,
+                &codes,
+                &grid,
+                base,
+                &mut scan_kept,
+                &mut scan_clipped,
+            )
+        };
+        assert_eq!(done, all.len() / 3);
+        let shifted = |v: &[u32]| v.iter().map(|f| f + base).collect::<Vec<u32>>();
+        assert_eq!(scan_kept.faces, shifted(&loop_kept.faces));
+        assert_eq!(scan_kept.corners, loop_kept.corners);
+        assert_eq!(scan_clipped, shifted(&loop_clipped));
         assert!(
             kept > 1000 && scanned > 100 && (2_000..18_000).contains(&not_away_blocks),
             "{kept} kept, {scanned} scanned, {not_away_blocks} blocks not away"

@@ -218,7 +218,7 @@ fn plan<'a>(
     trace.mark("prepare");
     let l_guess = candidates::sample_edge_length(tm.positions(), tm.corners(), &proj);
     let mut margin = 1.5 * max_ratio * l_guess;
-    let (grid, clipped, mut region, buckets, length, reach) = loop {
+    let (grid, clipped, mut region, vf_corner, buckets, length, reach) = loop {
         let mut grid = CellGrid::new(&segs, margin, margin.max(l_guess));
         trace.mark("grid");
         // The wide lists beside the vertex pass, which does not read them.
@@ -236,10 +236,11 @@ fn plan<'a>(
         match built {
             region::Built::Region {
                 region,
+                vf_corner,
                 buckets,
                 length,
                 reach,
-            } => break (grid, clipped, *region, buckets, length, reach),
+            } => break (grid, clipped, *region, vf_corner, buckets, length, reach),
             region::Built::Grow(l_px) => margin = 2.0 * max_ratio * l_px,
         }
     };
@@ -248,53 +249,60 @@ fn plan<'a>(
     trace.count("verts", region.verts.len());
     let visible_only = options.mode == CutMode::VisibleOnly;
 
-    // Which vertices may move: every face around them known, in front of the eye, and in
-    // visible-only mode front-facing all round and not hidden (tested only for vertices
-    // within reach of the stroke). One parallel pass.
-    let allowed: Vec<bool> = (0..region.verts.len() as u32)
-        .into_par_iter()
-        .with_min_len(256)
-        .map(|v| {
-            let faces = region.vertex_faces(v);
-            let Some(seen) = region.seen.get(v) else {
-                return false;
-            };
-            let movable = region.complete[v as usize]
-                && faces.iter().all(|&f| region.projectable(f))
-                && faces.iter().any(|&f| region.cuttable[f as usize])
-                && (!visible_only || faces.iter().all(|&f| region.cuttable[f as usize]));
-            match &buckets {
-                // Visible-only: and seen before snapping.
-                Some(buckets) if movable => {
-                    grid.distance_to(seen.screen, &segs) >= reach
-                        || !buckets.hidden(
-                            &region,
-                            seen.screen,
-                            seen.z,
-                            region.pos[v as usize],
-                            None,
-                            faces,
-                        )
+    // The edge table beside the snap, which moves vertices but changes no face (nothing
+    // before the occurrences reads it): a fifth of the region's build, where the snap's
+    // serial loop left the other thread idle.
+    let edges_job = region.edges_job(vf_corner);
+    let (edge_table, (before, snapped)) = rayon::join(edges_job, || {
+        // Which vertices may move: every face around them known, in front of the eye, and in
+        // visible-only mode front-facing all round and not hidden (tested only for vertices
+        // within reach of the stroke). One parallel pass.
+        let allowed: Vec<bool> = (0..region.verts.len() as u32)
+            .into_par_iter()
+            .with_min_len(256)
+            .map(|v| {
+                let faces = region.vertex_faces(v);
+                let Some(seen) = region.seen.get(v) else {
+                    return false;
+                };
+                let movable = region.complete[v as usize]
+                    && faces.iter().all(|&f| region.projectable(f))
+                    && faces.iter().any(|&f| region.cuttable[f as usize])
+                    && (!visible_only || faces.iter().all(|&f| region.cuttable[f as usize]));
+                match &buckets {
+                    // Visible-only: and seen before snapping.
+                    Some(buckets) if movable => {
+                        grid.distance_to(seen.screen, &segs) >= reach
+                            || !buckets.hidden(
+                                &region,
+                                seen.screen,
+                                seen.z,
+                                region.pos[v as usize],
+                                None,
+                                faces,
+                            )
+                    }
+                    _ => movable,
                 }
-                _ => movable,
-            }
-        })
-        .collect();
-    trace.mark("allowed");
-    let mut before = visible_only.then(|| Before::new(&region));
-    let snapped = snap::snap(
-        &mut region,
-        &allowed,
-        &prep,
-        &segs,
-        &grid,
-        l_px,
-        options,
-        &proj,
-    );
-    if let Some(b) = before.as_mut() {
-        b.mark_moved(snapped.moves.iter().map(|m| m.0));
-    }
+            })
+            .collect();
+        let mut before = visible_only.then(|| Before::new(&region));
+        let snapped = snap::snap(
+            &mut region,
+            &allowed,
+            &prep,
+            &segs,
+            &grid,
+            l_px,
+            options,
+            &proj,
+        );
+        if let Some(b) = before.as_mut() {
+            b.mark_moved(snapped.moves.iter().map(|m| m.0));
+        }
+        (before, snapped)
+    });
+    region.set_edges(edge_table)?;
     trace.mark("snap");
     let line = &snapped.line;
     let last = line.pts.len() as u32 - 1;

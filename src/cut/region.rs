@@ -41,7 +41,8 @@ pub(crate) struct Region {
     /// far above rounding (the snapped polyline's points and segments are within a few ulps
     /// of the stroke's segments, so a vertex beyond is on none of them).
     pub on_band: Vec<bool>,
-    /// Local edge of corner i → i+1 of each face.
+    /// Local edge of corner i → i+1 of each face. The edge table (this and the next two) is
+    /// empty until [`Region::set_edges`].
     pub face_edges: Vec<[u32; 3]>,
     /// Endpoints of each local edge (ascending local ids).
     pub edges: Vec<[u32; 2]>,
@@ -69,7 +70,8 @@ impl Region {
     /// not built ([`Built::Grow`]). Otherwise the region keeps the faces within the snap
     /// distance (none beyond can be reached by a snap or a crossing) and the faces straddling
     /// the eye plane, with its faces bucketed for visibility tests (built beside the edge
-    /// table).
+    /// table). The edge table is left for [`Region::edges_job`]: nothing before the snap
+    /// reads it, so the cut builds it beside the snap.
     #[allow(clippy::too_many_arguments)]
     pub fn build(
         mesh: &PolyMesh,
@@ -169,26 +171,15 @@ impl Region {
                 })
                 .unzip()
         };
-        let (buckets, (edge_table, complete)) = rayon::join(
+        let (buckets, ((vf_start, vf_list, vf_corner), complete)) = rayon::join(
             || {
                 // Only visible-only mode asks what hides a point (through all, the few
                 // points a cut locates get their own table: `locate`).
                 (mode == CutMode::VisibleOnly)
                     .then(|| FaceBuckets::new(&tri, &sign, &seen, &pos, grid, depth_eps_rel, reach))
             },
-            || {
-                rayon::join(
-                    || {
-                        let (vf_start, vf_list, vf_corner) = vertex_faces_csr(&tri, verts.len());
-                        let table = edge_table(&tri, &verts, &vf_start, &vf_corner);
-                        (table, vf_start, vf_list)
-                    },
-                    complete,
-                )
-            },
+            || rayon::join(|| vertex_faces_csr(&tri, verts.len()), complete),
         );
-        let (edge_table, vf_start, vf_list) = edge_table;
-        let (face_edges, edges, edge_faces) = edge_table?;
         let (complete, on_band) = complete;
         let region = Region {
             faces,
@@ -198,9 +189,9 @@ impl Region {
             seen,
             complete,
             on_band,
-            face_edges,
-            edges,
-            edge_faces,
+            face_edges: Vec::new(),
+            edges: Vec::new(),
+            edge_faces: Vec::new(),
             vf_start,
             vf_list,
             sign,
@@ -208,10 +199,26 @@ impl Region {
         };
         Ok(Built::Region {
             region: Box::new(region),
+            vf_corner,
             buckets,
             length,
             reach,
         })
+    }
+
+    /// The edge table's build ([`edge_table`]), to run beside steps that change the region's
+    /// geometry but not its faces (the snap): it owns copies of the faces, vertices and the
+    /// vertex → face lists (a few hundred kilobytes), and `vf_corner` from [`Built::Region`].
+    /// Its result goes to [`Region::set_edges`].
+    pub fn edges_job(&self, vf_corner: Vec<u32>) -> impl FnOnce() -> Result<EdgeTable> + Send {
+        let (tri, verts, vf_start) = (self.tri.clone(), self.verts.clone(), self.vf_start.clone());
+        move || edge_table(&tri, &verts, &vf_start, &vf_corner)
+    }
+
+    /// Sets the edge table ([`Region::edges_job`]), or passes on its error.
+    pub fn set_edges(&mut self, table: Result<EdgeTable>) -> Result<()> {
+        (self.face_edges, self.edges, self.edge_faces) = table?;
+        Ok(())
     }
 
     /// Faces around local vertex `v`, ascending.
@@ -243,7 +250,11 @@ impl Region {
 /// What [`Region::build`] gives.
 pub(crate) enum Built {
     Region {
+        /// Without its edge table ([`Region::edges_job`]).
         region: Box<Region>,
+        /// Beside each face around each vertex, its corner there (3 · face + corner), for the
+        /// edge table.
+        vf_corner: Vec<u32>,
         /// Visible-only mode's visibility buckets.
         buckets: Option<FaceBuckets>,
         length: EdgeLength,
@@ -588,19 +599,22 @@ unsafe fn rank_popcnt(ids: &mut [u32], bits: &[u64], below: &[u32]) {
     rank(ids, bits, below)
 }
 
+/// A region's edge table: each face's edge per corner, each edge's ends and its faces
+/// ([`Region::face_edges`], [`Region::edges`], [`Region::edge_faces`]).
+pub(crate) type EdgeTable = (Vec<[u32; 3]>, Vec<[u32; 2]>, Vec<[u32; 2]>);
+
 /// The local edges of `tri`: each face's edge per corner, each edge's ends (ascending) and
 /// its one or two faces; a non-manifold or inconsistently oriented edge is an error naming
 /// its global vertices (`verts`), the first in vertex order. Edges are numbered in order of
 /// (smaller end, larger end): the vertices are cut in two halves, whose rows
 /// ([`edge_rows`]) are found on two threads and numbered after each other, so the numbers
 /// do not depend on the thread count.
-#[allow(clippy::type_complexity)]
 fn edge_table(
     tri: &[[u32; 3]],
     verts: &[u32],
     vf_start: &[u32],
     vf_corner: &[u32],
-) -> Result<(Vec<[u32; 3]>, Vec<[u32; 2]>, Vec<[u32; 2]>)> {
+) -> Result<EdgeTable> {
     use std::sync::atomic::{AtomicU32, Ordering::Relaxed};
     const HIGH: u32 = 1 << 31;
     let corner_edge: Vec<AtomicU32> = (0..3 * tri.len()).map(|_| AtomicU32::new(NONE)).collect();

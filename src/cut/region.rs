@@ -161,6 +161,8 @@ impl Region {
         let complete = || -> (Vec<bool>, Vec<bool>) {
             // Within reach of the stroke: every face around is kept.
             (0..seen.len() as u32)
+                .into_par_iter()
+                .with_min_len(1024)
                 .map(|v| match seen.get(v) {
                     Some(s) => {
                         let d = grid.distance_to(s.screen, segments);

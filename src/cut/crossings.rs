@@ -150,7 +150,7 @@ pub(crate) fn find_occurrences<'b>(
             None => (DVec2::NAN, (0, 0)),
         })
         .collect();
-    let (locate, (chunks, on_stroke)) = rayon::join(make_locate, || {
+    let (locate, (chunks, on_stroke)) = super::ordered::join(make_locate, || {
         // Vertices on the stroke, once per vertex of a cuttable face (the edge loop would find
         // each from all its edges). First: the edge loop skips most pairs at the polyline
         // points they give. Only vertices on the stroke's band can be on it: the others are

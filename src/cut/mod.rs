@@ -253,7 +253,7 @@ fn plan<'a>(
     // before the occurrences reads it): a fifth of the region's build, where the snap's
     // serial loop left the other thread idle.
     let edges_job = region.edges_job(vf_corner);
-    let (edge_table, (before, snapped)) = rayon::join(edges_job, || {
+    let (edge_table, (before, snapped)) = ordered::join(edges_job, || {
         // Which vertices may move: every face around them known, in front of the eye, and in
         // visible-only mode front-facing all round and not hidden (tested only for vertices
         // within reach of the stroke). One parallel pass.

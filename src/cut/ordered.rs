@@ -1,9 +1,11 @@
 //! Parallel jobs whose results one thread consumes in order, each as soon as it is ready: the
 //! consuming thread works through the serial part while the pool runs the later jobs (rayon
-//! has no ordered streaming; `par_iter().collect()` waits for every job first).
+//! has no ordered streaming; `par_iter().collect()` waits for every job first). And a join
+//! whose calling thread never falls asleep while it waits ([`join`]).
 
 use std::panic::AssertUnwindSafe;
-use std::sync::OnceLock;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{Mutex, OnceLock};
 
 /// Runs `job(0)`, …, `job(n − 1)` on the current rayon pool and calls `consume(i, &result)`
 /// on this thread in order of `i`, each as soon as its result is there.
@@ -42,6 +44,40 @@ pub(crate) fn in_order<T: Send + Sync>(
     });
 }
 
+/// `rayon::join(a, b)` for a thread that must not fall asleep: `b` is offered to the pool
+/// and `a` run here; then, until `b` is done, this thread runs pending jobs (`b` itself if no
+/// one took it) or spins. Rayon's join lets a thread that runs out of work sleep, and waking
+/// it again (a futex call, then a reschedule) cost tens of microseconds each time the cut's
+/// thread waited for a long job on the other one. A panic in `b` is caught and raised here.
+pub(crate) fn join<RA: Send, RB: Send>(
+    a: impl FnOnce() -> RA + Send,
+    b: impl FnOnce() -> RB + Send,
+) -> (RA, RB) {
+    // `b`'s result (`None` if it panicked), and whether it is there.
+    let slot: Mutex<Option<Option<RB>>> = Mutex::new(None);
+    let done = AtomicBool::new(false);
+    let ra = rayon::scope(|s| {
+        let (slot, done) = (&slot, &done);
+        s.spawn(move |_| {
+            let rb = std::panic::catch_unwind(AssertUnwindSafe(b)).ok();
+            *slot.lock().unwrap_or_else(|e| e.into_inner()) = Some(rb);
+            done.store(true, Ordering::Release);
+        });
+        let ra = a();
+        while !done.load(Ordering::Acquire) {
+            if rayon::yield_now() != Some(rayon::Yield::Executed) {
+                std::hint::spin_loop();
+            }
+        }
+        ra
+    });
+    let rb = slot
+        .into_inner()
+        .unwrap_or_else(|e| e.into_inner())
+        .flatten();
+    (ra, rb.expect("a parallel job panicked"))
+}
+
 #[cfg(test)]
 mod tests {
     use super::in_order;
@@ -66,6 +102,37 @@ mod tests {
                 .collect();
             assert_eq!(seen, expect.iter().copied().enumerate().collect::<Vec<_>>());
         }
+    }
+
+    #[test]
+    fn join_gives_both_results_on_any_pool() {
+        for threads in [1, 2, 4] {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            let sum = |n: u64| (0..n).sum::<u64>();
+            for n in [0u64, 10, 100_000] {
+                let (a, b) = pool.install(|| super::join(|| sum(n), || vec![sum(2 * n)]));
+                assert_eq!((a, b), (sum(n), vec![sum(2 * n)]));
+            }
+        }
+    }
+
+    #[test]
+    fn join_panics_when_either_side_does() {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(2)
+            .build()
+            .unwrap();
+        let a = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+            pool.install(|| super::join(|| panic!("a"), || 1))
+        }));
+        assert!(a.is_err());
+        let b = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+            pool.install(|| super::join(|| 1, || panic!("b")))
+        }));
+        assert!(b.is_err());
     }
 
     #[test]

@@ -173,15 +173,28 @@ impl Region {
                 })
                 .unzip()
         };
-        let (buckets, ((vf_start, vf_list, vf_corner), complete)) = rayon::join(
-            || {
-                // Only visible-only mode asks what hides a point (through all, the few
-                // points a cut locates get their own table: `locate`).
-                (mode == CutMode::VisibleOnly)
-                    .then(|| FaceBuckets::new(&tri, &sign, &seen, &pos, grid, depth_eps_rel, reach))
-            },
-            || rayon::join(|| vertex_faces_csr(&tri, verts.len()), complete),
-        );
+        let lists = || rayon::join(|| vertex_faces_csr(&tri, verts.len()), complete);
+        // Only visible-only mode asks what hides a point (through all, the few points a cut
+        // locates get their own table: `locate`). Without the buckets, no join around the
+        // lists: this thread would wait in it for the other one's half, and a rayon thread
+        // that waits without work falls asleep.
+        let (buckets, ((vf_start, vf_list, vf_corner), complete)) = match mode {
+            CutMode::VisibleOnly => rayon::join(
+                || {
+                    Some(FaceBuckets::new(
+                        &tri,
+                        &sign,
+                        &seen,
+                        &pos,
+                        grid,
+                        depth_eps_rel,
+                        reach,
+                    ))
+                },
+                lists,
+            ),
+            CutMode::ThroughAll => (None, lists()),
+        };
         let (complete, on_band) = complete;
         let region = Region {
             faces,

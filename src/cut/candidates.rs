@@ -62,9 +62,9 @@ pub(crate) struct CellGrid {
     /// The segments within the margin and half a diagonal of each cell's centre (so every
     /// segment within the margin of a point of the cell).
     lists: CellLists,
-    /// The margin the grid was made for.
-    margin: f64,
-    /// The wide lists ([`CellGrid::wide_lists`]), once set.
+    /// For each cell, the segments within the margin, half a diagonal and a diagonal of its
+    /// centre (with a relative slack of 1e-6, far above rounding, [`wide_reach`]): a superset
+    /// of those its eight neighbours list (each of their centres is a diagonal away).
     wide: CellLists,
 }
 
@@ -174,6 +174,37 @@ impl CellGrid {
         // border).
         debug_assert!(nx + 2 <= 0xffff && ny + 2 <= 0xfff);
         let inv_cell = 1.0 / cell;
+        // The wide lists on the other thread: beside the vertex pass, they kept a thread from
+        // it, and the pass's end waited for that thread's last share.
+        let (wide_reach, geometry) = (wide_reach(margin, cell), (lo, cell, nx, ny));
+        let wide = || {
+            CellLists::new(
+                &cell_pairs(segments, geometry, wide_reach, wide_reach),
+                nx,
+                ny,
+            )
+        };
+        let ((near, lists), wide) =
+            super::ordered::join(|| Self::marks(segments, geometry, margin), wide);
+        CellGrid {
+            origin: lo,
+            cell,
+            nx,
+            ny,
+            inv_cell,
+            near,
+            lists,
+            wide,
+        }
+    }
+
+    /// The near table ([`CellGrid::near`]) and the cells' lists of a grid `(origin, cell, nx,
+    /// ny)` for `margin`.
+    fn marks(
+        segments: &[(DVec2, DVec2)],
+        (lo, cell, nx, ny): (DVec2, f64, i32, i32),
+        margin: f64,
+    ) -> (Vec<u8>, CellLists) {
         let half_diag = cell * std::f64::consts::FRAC_1_SQRT_2;
         // Each cell whose centre is within the margin and half a diagonal of a segment (it may
         // hold a point within the margin of it).
@@ -208,50 +239,16 @@ impl CellGrid {
             let (cx, cy) = (c % nx as u32, c / nx as u32);
             near[((cy + 1) * (nx as u32 + 2) + cx + 1) as usize] |= MARKED;
         }
-        CellGrid {
-            origin: lo,
-            cell,
-            nx,
-            ny,
-            inv_cell,
-            near,
-            lists: CellLists::new(&pairs, nx, ny),
-            margin,
-            wide: CellLists::default(),
-        }
-    }
-
-    /// The wide lists: for each cell, the segments within the margin, half a diagonal and a
-    /// diagonal of its centre (with a relative slack of 1e-6, far above rounding), a superset
-    /// of those its eight neighbours list (each of their centres is a diagonal away). Apart
-    /// from [`CellGrid::new`]: the cut finds them beside the vertex pass, which does not read
-    /// them.
-    pub fn wide_lists(&self, segments: &[(DVec2, DVec2)]) -> CellLists {
-        let half_diag = self.cell * std::f64::consts::FRAC_1_SQRT_2;
-        let reach = (self.margin + half_diag * 1.0001 + self.cell * std::f64::consts::SQRT_2)
-            * (1.0 + 1e-6);
-        let pairs = cell_pairs(
-            segments,
-            (self.origin, self.cell, self.nx, self.ny),
-            reach,
-            reach,
-        );
-        CellLists::new(&pairs, self.nx, self.ny)
-    }
-
-    /// Sets [`CellGrid::wide_lists`]: [`CellGrid::segments_around`] works from here on.
-    pub fn set_wide_lists(&mut self, wide: CellLists) {
-        self.wide = wide;
+        (near, CellLists::new(&pairs, nx, ny))
     }
 
     /// The segments any cell of the inclusive range `(x0, y0, x1, y1)` (on the grid) lists,
     /// and a few more, each once, ascending, when the range is at most three cells wide and
     /// high: the wide list of its middle cell. One read where a walk over the range's rows
-    /// and a check for repeats took twice as long. `None` for a larger range, or before
-    /// [`CellGrid::set_wide_lists`].
+    /// and a check for repeats took twice as long. `None` for a larger range.
     #[inline]
     pub fn segments_around(&self, (x0, y0, x1, y1): (i32, i32, i32, i32)) -> Option<&[u32]> {
-        if x1 - x0 > 2 || y1 - y0 > 2 || self.wide.runs.block.is_empty() {
+        if x1 - x0 > 2 || y1 - y0 > 2 {
             return None;
         }
         Some(self.wide.at((x0 + x1) / 2, (y0 + y1) / 2))
@@ -503,6 +500,12 @@ fn marked_runs(pairs: &[(u32, u32)], nx: u32) -> Vec<(i32, i32, i32)> {
         }
     }
     runs
+}
+
+/// The reach of the wide lists ([`CellGrid::wide`]) for `margin` and cells `cell` wide.
+fn wide_reach(margin: f64, cell: f64) -> f64 {
+    let half_diag = cell * std::f64::consts::FRAC_1_SQRT_2;
+    (margin + half_diag * 1.0001 + cell * std::f64::consts::SQRT_2) * (1.0 + 1e-6)
 }
 
 /// The cell of `s` in a grid at `origin` with cells `1 / inv_cell` wide (unclamped).
@@ -1192,9 +1195,6 @@ mod tests {
             }
             // The wide lists: for every range up to three cells across, a superset of its
             // cells' lists, ascending, each once.
-            let mut grid = grid;
-            assert!(grid.segments_around((0, 0, 0, 0)).is_none(), "not set yet");
-            grid.set_wide_lists(grid.wide_lists(&segs));
             for cy in 0..grid.ny {
                 for cx in 0..grid.nx {
                     let (w, h) = (next(3), next(3));

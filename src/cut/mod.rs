@@ -219,14 +219,9 @@ fn plan<'a>(
     let l_guess = candidates::sample_edge_length(tm.positions(), tm.corners(), &proj);
     let mut margin = 1.5 * max_ratio * l_guess;
     let (grid, clipped, mut region, vf_corner, buckets, length, reach) = loop {
-        let mut grid = CellGrid::new(&segs, margin, margin.max(l_guess));
+        let grid = CellGrid::new(&segs, margin, margin.max(l_guess));
         trace.mark("grid");
-        // The wide lists beside the vertex pass, which does not read them.
-        let (codes, wide) = rayon::join(
-            || candidates::vertex_codes(tm.positions(), &proj, &grid),
-            || grid.wide_lists(&segs),
-        );
-        grid.set_wide_lists(wide);
+        let codes = candidates::vertex_codes(tm.positions(), &proj, &grid);
         trace.mark("codes");
         let (kept, clipped) = candidates::candidate_faces(tm.corners(), &codes, &grid);
         trace.count("candidates", kept.faces.len());

@@ -90,7 +90,16 @@ impl Region {
         // projection so the misses overlap, and prefetched a few vertices ahead (on a mesh
         // whose vertex order is not spatial, a subdivided one, nearly every read misses).
         let ps = mesh.positions();
-        let (pos, seen): (Vec<DVec3>, (Vec<DVec2>, Vec<DVec2>)) = (0..verts.len())
+        // With each vertex's grid cell: membership is measured on screen, each vertex
+        // projected once and placed in its grid cell once (a face's cell range is its
+        // corners' least and greatest); behind the eye, `BEHIND_CELL`, so the near test tells
+        // a clipped face from the cells it reads anyway. In the same pass as the reads (a
+        // pass of its own was one more wait for the other thread).
+        #[allow(clippy::type_complexity)]
+        let (pos, (seen, cells)): (
+            Vec<DVec3>,
+            ((Vec<DVec2>, Vec<DVec2>), Vec<(i32, i32)>),
+        ) = (0..verts.len())
             .into_par_iter()
             .with_min_len(1024)
             .map(|i| {
@@ -98,28 +107,18 @@ impl Region {
                     crate::mem::prefetch(ps.as_ptr().wrapping_add(ahead as usize));
                 }
                 let p = ps[verts[i] as usize];
-                (p, split_seen(proj.see(p)))
-            })
-            .unzip();
-        let seen = SeenList::from(seen);
-        // Membership measured on screen, each vertex projected once and placed in its grid
-        // cell once (a face's cell range is its corners' least and greatest); behind the eye,
-        // `BEHIND_CELL`, so the near test tells a clipped face from the cells it reads anyway.
-        let cells: Vec<(i32, i32)> = seen
-            .screen
-            .par_iter()
-            .zip(&seen.depth)
-            .with_min_len(1024)
-            .map(|(&s, &d)| {
-                if SeenList::in_front(d) {
+                let (s, d) = split_seen(proj.see(p));
+                let cell = if SeenList::in_front(d) {
                     // Far left of the grid either way, but never taken for behind the eye.
                     let (cx, cy) = grid.cell(s);
                     (cx.max(BEHIND_CELL + 1), cy)
                 } else {
                     (BEHIND_CELL, 0)
-                }
+                };
+                (p, ((s, d), cell))
             })
-            .collect();
+            .unzip();
+        let seen = SeenList::from(seen);
         // L's parts beside the near test, one a job (a serial pass after it was a sixth of
         // the region's build).
         let mut near: Vec<Near> = vec![Near::AWAY; tri.len()];

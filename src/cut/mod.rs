@@ -226,7 +226,7 @@ fn plan<'a>(
         let (kept, clipped) = candidates::candidate_faces(tm.corners(), &codes, &grid);
         trace.count("candidates", kept.faces.len());
         trace.mark("candidates");
-        let built = Region::build(tm, &kept, &grid, &segs, margin, max_ratio, &proj, options)?;
+        let built = Region::build(tm, kept, &grid, &segs, margin, max_ratio, &proj, options)?;
         trace.mark("region");
         match built {
             region::Built::Region {

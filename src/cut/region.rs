@@ -75,7 +75,7 @@ impl Region {
     #[allow(clippy::too_many_arguments)]
     pub fn build(
         mesh: &PolyMesh,
-        candidates: &Kept,
+        candidates: Kept,
         grid: &CellGrid,
         segments: &[(DVec2, DVec2)],
         margin: f64,
@@ -84,7 +84,11 @@ impl Region {
         options: &CutOptions,
     ) -> Result<Built> {
         let (mode, depth_eps_rel) = (options.mode, options.depth_eps_rel);
-        let (verts, tri) = local_ids(&candidates.corners, mesh.vertex_count() as usize);
+        let Kept {
+            faces: candidates,
+            corners,
+        } = candidates;
+        let (verts, tri) = local_ids(corners, mesh.vertex_count() as usize);
         // Each position read once from the mesh (its vertices are scattered through it:
         // reading them again per edge or face missed the caches), on rayon with the
         // projection so the misses overlap, and prefetched a few vertices ahead (on a mesh
@@ -139,7 +143,7 @@ impl Region {
             .collect();
         let mut length = mean_edge_length(parts);
         for f in &mut length.degenerate_met {
-            *f = candidates.faces[*f as usize];
+            *f = candidates[*f as usize];
         }
         let reach = max_ratio * length.px;
         if reach > margin {
@@ -153,7 +157,7 @@ impl Region {
             verts,
             seen,
             pos,
-        } = keep_near(&candidates.faces, tri, verts, seen, pos, &near, reach);
+        } = keep_near(&candidates, tri, verts, seen, pos, &near, reach);
         let (sign, cuttable) = face_signs(&tri, &seen, &pos, mode);
         // The visibility buckets (the longest) beside the adjacency and the per-vertex data.
         // The buckets' boxes are grown by the snap distance.
@@ -559,8 +563,8 @@ pub(crate) fn lift_with(seen: &SeenList, pos: &[DVec3], t: [u32; 3], l: [f64; 3]
 /// the number of marked vertices below it (a prefix count per 64-bit word plus a popcount).
 /// Linear and cache-resident (nv / 8 bytes); a radix sort of the corners took three times
 /// as long (its counters form dependency chains on nearly sorted ids).
-fn local_ids(corners: &[[u32; 3]], nv: usize) -> (Vec<u32>, Vec<[u32; 3]>) {
-    let mut tri = corners.to_vec();
+fn local_ids(corners: Vec<[u32; 3]>, nv: usize) -> (Vec<u32>, Vec<[u32; 3]>) {
+    let mut tri = corners;
     let mut bits = vec![0u64; nv.div_ceil(64)];
     // Four quarters of the corners interleaved: consecutive corners mostly mark one word,
     // and each read-modify-write of it waited for the last (a tenth of the region's build).

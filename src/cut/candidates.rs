@@ -12,7 +12,7 @@
 //! the thread count.
 //!
 //! The grid also lists each cell's nearby segments, for the region's tests; wider lists,
-//! found beside pass 1, serve a face or an edge up to three cells across in one read.
+//! found beside the marks, serve a face or an edge up to three cells across in one read.
 
 use std::mem::MaybeUninit;
 

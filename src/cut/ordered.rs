@@ -13,8 +13,8 @@ use std::sync::{Mutex, OnceLock};
 /// of its queue, so job 0 first and, while it waits, jobs from the end, and idle workers
 /// steal the oldest, so jobs 1, 2, … in the order they are consumed. (Spawned last to first,
 /// a worker took the last jobs first and this thread the second: the consumption waited for
-/// it, normalization −14% on spot, through all, per-call A/B.) A job that panics is caught, so this thread stops waiting
-/// and panics in turn instead of spinning for ever.
+/// it, normalization −14% on spot, through all, per-call A/B.) A job that panics is caught,
+/// so this thread stops waiting and panics in turn instead of spinning for ever.
 pub(crate) fn in_order<T: Send + Sync>(
     n: usize,
     job: impl Fn(usize) -> T + Sync,

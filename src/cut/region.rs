@@ -69,9 +69,10 @@ impl Region {
     /// stroke meets; when the snap distance `max_ratio` · L exceeds the margin the region is
     /// not built ([`Built::Grow`]). Otherwise the region keeps the faces within the snap
     /// distance (none beyond can be reached by a snap or a crossing) and the faces straddling
-    /// the eye plane, with its faces bucketed for visibility tests (built beside the edge
-    /// table). The edge table is left for [`Region::edges_job`]: nothing before the snap
-    /// reads it, so the cut builds it beside the snap.
+    /// the eye plane, with its faces bucketed for visibility tests in visible-only mode
+    /// (built beside the vertex → face lists). The edge table is left for
+    /// [`Region::edges_job`]: nothing before the snap reads it, so the cut builds it beside
+    /// the snap.
     #[allow(clippy::too_many_arguments)]
     pub fn build(
         mesh: &PolyMesh,
@@ -226,7 +227,8 @@ impl Region {
 
     /// The edge table's build ([`edge_table`]), to run beside steps that change the region's
     /// geometry but not its faces (the snap): it owns copies of the faces, vertices and the
-    /// vertex → face lists (a few hundred kilobytes), and `vf_corner` from [`Built::Region`].
+    /// vertex → face lists (some 130 KiB on spot, through all), and `vf_corner` from
+    /// [`Built::Region`].
     /// Its result goes to [`Region::set_edges`].
     pub fn edges_job(&self, vf_corner: Vec<u32>) -> impl FnOnce() -> Result<EdgeTable> + Send {
         let (tri, verts, vf_start) = (self.tri.clone(), self.verts.clone(), self.vf_start.clone());

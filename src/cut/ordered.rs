@@ -82,13 +82,17 @@ pub(crate) fn join<RA: Send, RB: Send>(
 mod tests {
     use super::in_order;
 
+    fn pool(threads: usize) -> rayon::ThreadPool {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap()
+    }
+
     #[test]
     fn results_come_in_order_on_any_pool() {
         for threads in [1, 2, 4] {
-            let pool = rayon::ThreadPoolBuilder::new()
-                .num_threads(threads)
-                .build()
-                .unwrap();
+            let pool = pool(threads);
             let mut seen = Vec::new();
             pool.install(|| {
                 in_order(
@@ -107,10 +111,7 @@ mod tests {
     #[test]
     fn join_gives_both_results_on_any_pool() {
         for threads in [1, 2, 4] {
-            let pool = rayon::ThreadPoolBuilder::new()
-                .num_threads(threads)
-                .build()
-                .unwrap();
+            let pool = pool(threads);
             let sum = |n: u64| (0..n).sum::<u64>();
             for n in [0u64, 10, 100_000] {
                 let (a, b) = pool.install(|| super::join(|| sum(n), || vec![sum(2 * n)]));
@@ -121,10 +122,7 @@ mod tests {
 
     #[test]
     fn join_panics_when_either_side_does() {
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(2)
-            .build()
-            .unwrap();
+        let pool = pool(2);
         let a = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
             pool.install(|| super::join(|| panic!("a"), || 1))
         }));

@@ -19,8 +19,8 @@
 use std::arch::x86_64::*;
 
 use super::candidates::{
-    cell_box, CellGrid, Kept, BEHIND, BLOCK, CLOSE, CLOSE_RING, MARKED, MID, MID_RING, NEAR,
-    NEAR_RING,
+    cell_box, prefetch_blocks_ahead, CellGrid, Kept, BEHIND, BLOCK, CLOSE, CLOSE_RING, MARKED, MID,
+    MID_RING, NEAR, NEAR_RING,
 };
 
 /// Lanes of a near block: `keep`, the faces kept from their codes; `scan`, those whose cell
@@ -173,11 +173,7 @@ pub(crate) unsafe fn scan_blocks(
 ) -> usize {
     let blocks = ids.len() / (3 * BLOCK);
     for (bi, b) in ids.as_chunks::<{ 3 * BLOCK }>().0.iter().enumerate() {
-        // The corner stream asked for 16 blocks (3 KiB) ahead: the hardware's stream
-        // prefetch alone left this pass waiting on it (torus −4% to −10%, spot equal).
-        for line in 0..3 {
-            crate::mem::prefetch(b.as_ptr().wrapping_add(3 * BLOCK * 16 + 16 * line));
-        }
+        prefetch_blocks_ahead(b.as_ptr());
         // SAFETY: the caller's guarantees.
         let corners = unsafe { gather(b, codes) };
         if !unsafe { block_not_away(&corners) } {

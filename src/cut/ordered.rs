@@ -30,18 +30,25 @@ pub(crate) fn in_order<T: Send + Sync>(
             });
         }
         for (i, slot) in slots.iter().enumerate() {
-            let result = loop {
-                if let Some(r) = slot.get() {
-                    break r.as_ref().expect("a parallel job panicked");
-                }
-                // Run a job meanwhile, or wait for the worker running this one.
-                if rayon::yield_now() != Some(rayon::Yield::Executed) {
-                    std::hint::spin_loop();
-                }
-            };
-            consume(i, result);
+            wait_awake(|| slot.get().is_some());
+            consume(
+                i,
+                slot.get()
+                    .and_then(Option::as_ref)
+                    .expect("a parallel job panicked"),
+            );
         }
     });
+}
+
+/// Until `ready()`, runs the pool's pending jobs on this thread, or spins when there are
+/// none (never sleeps: see [`join`]).
+fn wait_awake(ready: impl Fn() -> bool) {
+    while !ready() {
+        if rayon::yield_now() != Some(rayon::Yield::Executed) {
+            std::hint::spin_loop();
+        }
+    }
 }
 
 /// `rayon::join(a, b)` for a thread that must not fall asleep: `b` is offered to the pool
@@ -64,11 +71,7 @@ pub(crate) fn join<RA: Send, RB: Send>(
             done.store(true, Ordering::Release);
         });
         let ra = a();
-        while !done.load(Ordering::Acquire) {
-            if rayon::yield_now() != Some(rayon::Yield::Executed) {
-                std::hint::spin_loop();
-            }
-        }
+        wait_awake(|| done.load(Ordering::Acquire));
         ra
     });
     let rb = slot

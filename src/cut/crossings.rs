@@ -55,6 +55,44 @@ pub(crate) fn key_cmp(a: (u32, f64), b: (u32, f64)) -> std::cmp::Ordering {
 /// variant and fields as `Elem`'s derived order compares them) and one permutation at the
 /// end; sorting the occurrences themselves moved a few hundred kilobytes per merge pass.
 fn sort_occurrences(occ: &mut Vec<Occ>) {
+    // By stroke index first (a stable radix sort), then each index's few by the whole key:
+    // one comparison sort of everything cost a tenth of finding the occurrences.
+    let mut by_index: Vec<(u32, u32)> = occ
+        .iter()
+        .enumerate()
+        .map(|(i, o)| (o.key.0, i as u32))
+        .collect();
+    super::radix::sort_by_key(&mut by_index);
+    // The runs' sorts and the copies in two halves on rayon, split between two indices (this
+    // thread's alone, they were a tenth of finding the occurrences, the other thread idle).
+    let mut mid = by_index.len() / 2;
+    while mid > 0 && mid < by_index.len() && by_index[mid].0 == by_index[mid - 1].0 {
+        mid += 1;
+    }
+    let mut sorted: Vec<Occ> = Vec::with_capacity(occ.len());
+    let (lo, hi) = sorted.spare_capacity_mut()[..occ.len()].split_at_mut(mid);
+    let from = &occ[..];
+    if by_index.len() < 512 {
+        sort_runs(from, &by_index, lo.iter_mut().chain(hi.iter_mut()));
+    } else {
+        rayon::join(
+            || sort_runs(from, &by_index[..mid], lo.iter_mut()),
+            || sort_runs(from, &by_index[mid..], hi.iter_mut()),
+        );
+    }
+    // SAFETY: `sort_runs` wrote one occurrence per entry of `by_index`, `occ.len()` in all.
+    unsafe { sorted.set_len(occ.len()) };
+    *occ = sorted;
+}
+
+/// The occurrences of `by_index` (stroke index, occurrence; whole runs of indices, sorted
+/// by index) sorted within each index by the whole key ([`sort_occurrences`]), written to
+/// `out` in order (one slot per entry).
+fn sort_runs<'a>(
+    occ: &[Occ],
+    by_index: &[(u32, u32)],
+    mut out: impl Iterator<Item = &'a mut std::mem::MaybeUninit<Occ>>,
+) {
     type Key = (u32, u64, u8, u32, u32, bool, u32);
     let key = |i: usize, o: &Occ| -> Key {
         let t = super::radix::f64_key(o.key.1);
@@ -65,23 +103,17 @@ fn sort_occurrences(occ: &mut Vec<Occ>) {
         };
         (o.key.0, t, tag, a, c, d, i as u32)
     };
-    // By stroke index first (a stable radix sort), then each index's few by the whole key:
-    // one comparison sort of everything cost a tenth of finding the occurrences.
-    let mut by_index: Vec<(u32, u32)> = occ
-        .iter()
-        .enumerate()
-        .map(|(i, o)| (o.key.0, i as u32))
-        .collect();
-    super::radix::sort_by_key(&mut by_index);
-    let mut order: Vec<u32> = Vec::with_capacity(occ.len());
     let mut keys: Vec<Key> = Vec::new();
     for run in by_index.chunk_by(|a, b| a.0 == b.0) {
         keys.clear();
         keys.extend(run.iter().map(|&(_, i)| key(i as usize, &occ[i as usize])));
         super::radix::small_sort(&mut keys);
-        order.extend(keys.iter().map(|k| k.6));
+        for k in &keys {
+            out.next()
+                .expect("a slot per entry")
+                .write(occ[k.6 as usize]);
+        }
     }
-    *occ = order.iter().map(|&i| occ[i as usize]).collect();
 }
 
 /// The prepared segments listed in the cells of an inclusive range, each once, in cell
@@ -808,7 +840,9 @@ pub(crate) fn chains(
 
 #[cfg(test)]
 mod tests {
-    use super::{along, in_window, meets_only_at, Strip, NONE};
+    use super::{
+        along, in_window, key_cmp, meets_only_at, sort_occurrences, Elem, Occ, Strip, NONE,
+    };
     use crate::cut::geom::orient;
     use glam::DVec2;
 
@@ -845,6 +879,46 @@ mod tests {
         // An end of the range, and no point.
         assert!(!skip(0, pts[0], DVec2::new(1.0, 1.0)));
         assert!(!skip(NONE, a, off));
+    }
+
+    /// The occurrences' sort gives the order of a stable comparison sort by key then element,
+    /// below and above the size at which its two halves run apart, with ties in both.
+    #[test]
+    fn occurrences_sort_as_a_comparison_sort_would() {
+        let mut rnd = crate::cut::radix::tests::xorshift(0x1234_5678_9abc_def1);
+        for n in [0usize, 1, 5, 300, 511, 512, 2000] {
+            let occ: Vec<Occ> = (0..n)
+                .map(|i| {
+                    let r = rnd();
+                    let elem = match r % 3 {
+                        0 => Elem::V((r >> 8) as u32 % 7),
+                        1 => Elem::E {
+                            edge: (r >> 8) as u32 % 7,
+                            at: (r >> 16) as u32 % 3,
+                            on_point: r >> 24 & 1 == 1,
+                        },
+                        _ => Elem::P {
+                            point: (r >> 8) as u32 % 3,
+                            face: (r >> 16) as u32 % 5,
+                        },
+                    };
+                    let t = [0.0, 0.25, 0.5, 1e-300][(r >> 32) as usize % 4];
+                    Occ {
+                        key: ((r >> 40) as u32 % (n as u32 / 4 + 1), t),
+                        elem,
+                        screen: DVec2::new(i as f64, 0.0),
+                        edge_t: 0.0,
+                        visible: true,
+                    }
+                })
+                .collect();
+            let mut want = occ.clone();
+            want.sort_by(|x, y| key_cmp(x.key, y.key).then(x.elem.cmp(&y.elem)));
+            let mut got = occ;
+            sort_occurrences(&mut got);
+            let ids = |v: &[Occ]| v.iter().map(|o| o.screen.x).collect::<Vec<_>>();
+            assert_eq!(ids(&got), ids(&want), "n = {n}");
+        }
     }
 
     /// A point a segment snap inserts (`a + t·(b − a)`, as `snap` computes it) is never

@@ -453,31 +453,33 @@ fn plan<'a>(
         p.verts = verts;
         p.faces = faces;
     }
-    let mut cut_edges: Vec<(u32, u32)> =
-        Vec::with_capacity(paths.iter().map(|p| p.verts.len()).sum());
-    cut_edges.extend(
+    // Each path edge listed at its smaller end (a counting sort by that end, repeats kept):
+    // the flips ask of every inner diagonal whether it is a path edge, and a binary search
+    // of all the path edges for each took a quarter of that step; sorting the edges whole
+    // for it cost a quarter of this one.
+    let nv_local = region.verts.len() + sp.new_pos.len();
+    let path_edges = || {
         paths
             .iter()
-            .flat_map(|p| p.verts.windows(2).map(|w| (w[0].min(w[1]), w[0].max(w[1])))),
-    );
-    radix::sort_pairs(&mut cut_edges);
-    cut_edges.dedup();
-    // Where each vertex's path edges to larger ids start (they are sorted by smaller end):
-    // the flips ask of every inner diagonal whether it is a path edge, and a binary search
-    // of all the path edges for each took a quarter of that step.
-    let nv_local = region.verts.len() + sp.new_pos.len();
+            .flat_map(|p| p.verts.windows(2).map(|w| (w[0].min(w[1]), w[0].max(w[1]))))
+    };
     let mut path_from = vec![0u32; nv_local + 1];
-    for &(a, _) in &cut_edges {
+    for (a, _) in path_edges() {
         path_from[a as usize + 1] += 1;
     }
     for v in 0..nv_local {
         path_from[v + 1] += path_from[v];
     }
+    let mut path_to = vec![0u32; path_from[nv_local] as usize];
+    let mut fill = path_from.clone();
+    for (a, b) in path_edges() {
+        path_to[fill[a as usize] as usize] = b;
+        fill[a as usize] += 1;
+    }
+    drop(fill);
     let is_path_edge = |a: u32, b: u32| {
         let (x, y) = (a.min(b) as usize, a.max(b));
-        cut_edges[path_from[x] as usize..path_from[x + 1] as usize]
-            .iter()
-            .any(|e| e.1 == y)
+        path_to[path_from[x] as usize..path_from[x + 1] as usize].contains(&y)
     };
     trace.mark("route");
 
@@ -530,11 +532,11 @@ fn plan<'a>(
         });
     }
 
-    let copies_of = if options.open && !cut_edges.is_empty() {
+    let copies_of = if options.open && !path_to.is_empty() {
         let mut pv: Vec<u32> = paths.iter().flat_map(|p| p.verts.iter().copied()).collect();
         pv.sort_unstable();
         pv.dedup();
-        open::open(&mut sp, &pv, &cut_edges)
+        open::open(&mut sp, &pv, &is_path_edge)
     } else {
         Vec::new()
     };

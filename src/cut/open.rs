@@ -7,9 +7,13 @@
 
 use super::split::Splitter;
 
-/// Duplicates the path vertices; returns, for each copy made (in creation order), the local
-/// vertex it copies.
-pub(crate) fn open(sp: &mut Splitter, path_vertices: &[u32], cut_edges: &[(u32, u32)]) -> Vec<u32> {
+/// Duplicates the path vertices; `is_cut(a, b)`: whether `a`-`b` is a path edge. Returns, for
+/// each copy made (in creation order), the local vertex it copies.
+pub(crate) fn open(
+    sp: &mut Splitter,
+    path_vertices: &[u32],
+    is_cut: &dyn Fn(u32, u32) -> bool,
+) -> Vec<u32> {
     let n0 = sp.r.verts.len() as u32;
     let mut faces: Vec<u32> = sp.touched.clone();
     for &v in path_vertices {
@@ -31,7 +35,6 @@ pub(crate) fn open(sp: &mut Splitter, path_vertices: &[u32], cut_edges: &[(u32, 
         }
     }
     inc.sort_unstable();
-    let is_cut = |a: u32, b: u32| cut_edges.binary_search(&(a.min(b), a.max(b))).is_ok();
     let mut copies = Vec::new();
     // Wedges are found on the sub-triangles as they are, then corners are replaced at once,
     // so each vertex sees its neighbours (and the cut edges) by their original ids.

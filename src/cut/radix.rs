@@ -135,22 +135,9 @@ pub(crate) fn f32_key(x: f32) -> u32 {
     }
 }
 
-/// Sorts `pairs` by `.0`, then `.1`: stably by the second, then by the first (the library's
-/// sort of a cut's few thousand path edges took twice as long).
-pub(crate) fn sort_pairs(pairs: &mut Vec<(u32, u32)>) {
-    for p in pairs.iter_mut() {
-        *p = (p.1, p.0);
-    }
-    sort_by_key(pairs);
-    for p in pairs.iter_mut() {
-        *p = (p.1, p.0);
-    }
-    sort_by_key(pairs);
-}
-
 #[cfg(test)]
 pub(crate) mod tests {
-    use super::{group_by_key, small_sort, sort_by_key, sort_pairs};
+    use super::{group_by_key, small_sort, sort_by_key};
 
     /// A deterministic xorshift64 stream from `seed` (non-zero), for the cut's unit tests.
     pub(crate) fn xorshift(mut seed: u64) -> impl FnMut() -> u64 {
@@ -219,23 +206,6 @@ pub(crate) mod tests {
                 want.sort_by_key(|p| p.0);
                 sort_by_key(&mut pairs);
                 assert_eq!(pairs, want, "n = {n}");
-            }
-        }
-    }
-
-    /// As the library's sort of the pairs: both fields random, repeats, few distinct values.
-    #[test]
-    fn sort_pairs_sorts_by_both() {
-        let mut rnd = xorshift(0x2545_f491_4f6c_dd1d);
-        for n in [0usize, 3, 255, 256, 3000] {
-            for m in [3u64, 1 << 14, 1 << 32] {
-                let mut pairs: Vec<(u32, u32)> = (0..n)
-                    .map(|_| ((rnd() % m) as u32, (rnd() % m) as u32))
-                    .collect();
-                let mut want = pairs.clone();
-                want.sort_unstable();
-                sort_pairs(&mut pairs);
-                assert_eq!(pairs, want, "n = {n}, values below {m}");
             }
         }
     }

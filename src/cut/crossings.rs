@@ -20,7 +20,7 @@ use super::candidates::CellGrid;
 use super::geom::{in_triangle, on_segment, orient};
 use super::locate::Locator;
 use super::region::{Region, NONE};
-use super::snap::Polyline;
+use super::snap::{Polyline, Snapped};
 use super::visibility::{Before, FaceBuckets};
 
 /// A model element the stroke meets.
@@ -139,24 +139,25 @@ pub(crate) fn canon(line: &Polyline, closed: bool, j: u32) -> u32 {
     }
 }
 
-/// All meetings of the stroke with elements of cuttable faces, sorted by key.
-/// `seg_range[si]` = the polyline segments inside prepared segment `si`; `make_locate` makes
+/// All meetings of the stroke with elements of cuttable faces, sorted by key: of the
+/// snapped polyline and the vertices snapped onto it (`snapped`); `make_locate` makes
 /// what finds the faces of piece ends (beside the edge and vertex loops; it is returned with
 /// the occurrences); `seen`, in visible-only mode, the visibility buckets and the region
 /// before snapping.
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn find_occurrences<'b>(
     region: &Region,
-    line: &Polyline,
+    snapped: &Snapped,
     closed: bool,
     grid: &CellGrid,
-    seg_range: &[(u32, u32)],
     piece_ends: &[u32],
     make_locate: impl FnOnce() -> Locator<'b> + Send,
     seen: Option<(&FaceBuckets, &Before)>,
     end_snap: f64,
     ends_moved: &mut Vec<u32>,
 ) -> (Vec<Occ>, Locator<'b>) {
+    let (moves, move_points) = (&snapped.moves, &snapped.move_points);
+    let (line, seg_range) = (&snapped.line, &snapped.seg_range[..]);
     let pts = &line.pts;
     let last = (pts.len() - 1) as u32;
     let mk = |key: (u32, f64), elem: Elem, screen: DVec2| Occ {
@@ -186,8 +187,15 @@ pub(crate) fn find_occurrences<'b>(
         // Vertices on the stroke, once per vertex of a cuttable face (the edge loop would find
         // each from all its edges). First: the edge loop skips most pairs at the polyline
         // points they give. Only vertices on the stroke's band can be on it: the others are
-        // skipped untested (the loop −28% on spot, through all).
+        // skipped untested (the loop −28% on spot, through all). A snapped vertex is on the
+        // point the snap put it on and on no other (the polyline does not meet itself):
+        // untested too (most of the band's vertices are snapped).
         let nv = region.verts.len() as u32;
+        let mut snapped_on = vec![NONE; nv as usize];
+        for (&(v, ..), &j) in moves.iter().zip(move_points) {
+            snapped_on[v as usize] = j;
+        }
+        let snapped_on = &snapped_on;
         let on_stroke: Vec<Vec<Occ>> = (0..nv)
             .into_par_iter()
             .chunks(256)
@@ -202,6 +210,12 @@ pub(crate) fn find_occurrences<'b>(
                         continue;
                     }
                     let (x, (cx, cy)) = at[v as usize];
+                    let j = snapped_on[v as usize];
+                    if j != NONE {
+                        debug_assert_eq!(pts[j as usize], x, "a snapped vertex on its point");
+                        occ.push(mk((j, 0.0), Elem::V(v), x));
+                        continue;
+                    }
                     let near = match grid.clamp((cx, cy), (cx, cy)) {
                         Some(_) => grid.segments_at(cx, cy),
                         None => &[],

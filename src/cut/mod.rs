@@ -330,10 +330,9 @@ fn plan<'a>(
     };
     let (occ, locate) = crossings::find_occurrences(
         &region,
-        line,
+        &snapped,
         prep.closed,
         &grid,
-        &snapped.seg_range,
         &bounds,
         make_locate,
         buckets.as_ref().zip(before.as_ref()),

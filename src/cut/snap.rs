@@ -9,7 +9,7 @@ use rayon::prelude::*;
 use super::candidates::CellGrid;
 use super::geom::orient;
 use super::options::CutOptions;
-use super::region::Region;
+use super::region::{Region, NONE};
 use super::stroke::Prepared;
 use super::view::Projector;
 
@@ -31,6 +31,8 @@ pub(crate) struct Snapped {
     pub start_of: Vec<u32>,
     /// (local vertex, from, to, pixels), in snapping order.
     pub moves: Vec<(u32, DVec3, DVec3, f64)>,
+    /// The polyline point each move put its vertex on (`moves`' order).
+    pub move_points: Vec<u32>,
     /// Local vertices within reach whose move the fold-over guard refused.
     pub refused: Vec<u32>,
 }
@@ -55,6 +57,7 @@ pub(crate) fn snap(
     let mut taken = vec![false; n];
     let mut snapped = vec![false; region.verts.len()];
     let mut moves = Vec::with_capacity(region.verts.len() / 4);
+    let mut targets: Vec<Target> = Vec::with_capacity(region.verts.len() / 4);
     let mut refused_any = vec![false; region.verts.len()];
 
     // Nearby segments of a screen point, from its grid cell (the margin covers max(rv, rs)).
@@ -97,6 +100,7 @@ pub(crate) fn snap(
         let q = prep.points[k as usize];
         if guard(region, v, q, min_area2) {
             moves.push(apply(region, proj, v, q));
+            targets.push(Target::Point(k));
             snapped[v as usize] = true;
             taken[k as usize] = true;
         } else {
@@ -152,6 +156,11 @@ pub(crate) fn snap(
     let mut inserted: Vec<(u32, f64, DVec2)> = Vec::with_capacity(feet.len());
     for &(_, v, si, t, q) in keys.iter().map(|&k| &feet[k as u32 as usize]) {
         if guard(region, v, q, min_area2) {
+            targets.push(if t > 0.0 && t < 1.0 {
+                Target::Foot(inserted.len() as u32)
+            } else {
+                Target::Segment(si, q)
+            });
             moves.push(apply(region, proj, v, q));
             snapped[v as usize] = true;
             refused_any[v as usize] = false;
@@ -169,8 +178,19 @@ pub(crate) fn snap(
         .map(|(i, x)| (x.0 as u128) << 96 | (super::radix::f64_key(x.1) as u128) << 32 | i as u128)
         .collect();
     keys.sort_unstable();
+    let order: Vec<u32> = keys.iter().map(|&k| k as u32).collect();
     let mut inserted: Vec<(u32, f64, DVec2)> =
-        keys.iter().map(|&k| inserted[k as u32 as usize]).collect();
+        order.iter().map(|&i| inserted[i as usize]).collect();
+    // Each foot's place among the kept ones (a foot equal to the one before it is that one).
+    let mut kept_of = vec![0u32; order.len()];
+    let mut kept = 0u32;
+    for (r, &i) in order.iter().enumerate() {
+        if r > 0 && inserted[r - 1].0 == inserted[r].0 && inserted[r - 1].2 == inserted[r].2 {
+            kept -= 1;
+        }
+        kept_of[i as usize] = kept;
+        kept += 1;
+    }
     inserted.dedup_by(|a, b| a.0 == b.0 && a.2 == b.2);
 
     // The snapped polyline: prepared points with the feet inserted in segment order. A closed
@@ -189,6 +209,8 @@ pub(crate) fn snap(
         on_vertex: Vec::new(),
     };
     let mut start_of = vec![0u32; n];
+    // The polyline point of each kept foot not at a segment end (NONE for those).
+    let mut foot_point = vec![NONE; inserted.len()];
     let segs = prep.segment_count();
     for i in 0..n {
         let k = (k0 + i) % n;
@@ -201,9 +223,10 @@ pub(crate) fn snap(
         }
         let lo = inserted.partition_point(|x| (x.0 as usize) < k);
         let hi = inserted.partition_point(|x| (x.0 as usize) <= k);
-        for &(_, _, q) in &inserted[lo..hi] {
+        for (f, &(_, _, q)) in inserted[lo..hi].iter().enumerate() {
             // A foot equal to the segment's end point is that point.
             if q != prep.points[k] && q != prep.points[(k + 1) % n] {
+                foot_point[lo + f] = line.pts.len() as u32;
                 line.pts.push(q);
                 line.src.push(None);
                 line.on_vertex.push(true);
@@ -216,7 +239,7 @@ pub(crate) fn snap(
         line.on_vertex.push(taken[k0]);
     }
     let last = line.pts.len() as u32 - 1;
-    let seg_range = (0..segs)
+    let seg_range: Vec<(u32, u32)> = (0..segs)
         .map(|k| {
             let next = (k + 1) % n;
             let end = if prep.closed && next == k0 {
@@ -227,6 +250,31 @@ pub(crate) fn snap(
             (start_of[k], end)
         })
         .collect();
+    // A vertex snapped onto a stroke point, or a foot at a segment's end, sits on that point;
+    // one on a foot inserted inside a segment, on the foot's point.
+    let at_end = |si: u32, q: DVec2| {
+        let (j0, j1) = seg_range[si as usize];
+        if q == line.pts[j0 as usize] {
+            j0
+        } else {
+            debug_assert_eq!(q, line.pts[j1 as usize], "a foot at a segment's end");
+            j1
+        }
+    };
+    let move_points = targets
+        .iter()
+        .map(|t| match *t {
+            Target::Point(k) => start_of[k as usize],
+            Target::Segment(si, q) => at_end(si, q),
+            Target::Foot(i) => {
+                let f = kept_of[i as usize] as usize;
+                match foot_point[f] {
+                    NONE => at_end(inserted[f].0, inserted[f].2),
+                    j => j,
+                }
+            }
+        })
+        .collect();
     let refused = (0..region.verts.len() as u32)
         .filter(|&v| refused_any[v as usize] && !snapped[v as usize])
         .collect();
@@ -235,8 +283,18 @@ pub(crate) fn snap(
         seg_range,
         start_of,
         moves,
+        move_points,
         refused,
     }
+}
+
+/// Where a move put its vertex: on prepared point `k`, on a foot at an end of segment `si`
+/// (at `q`), or on inserted foot `i` (its index among the feet in snapping order).
+#[derive(Clone, Copy)]
+enum Target {
+    Point(u32),
+    Segment(u32, DVec2),
+    Foot(u32),
 }
 
 /// Fold-over guard (spec §4 step 2, gap-fill): moving `v` to `q` keeps every non-degenerate

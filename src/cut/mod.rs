@@ -249,38 +249,30 @@ fn plan<'a>(
     // serial loop left the other thread idle.
     let edges_job = region.edges_job(vf_corner);
     let (edge_table, (before, snapped)) = ordered::join(edges_job, || {
-        // Which vertices may move: every face around them known, in front of the eye, and in
-        // visible-only mode front-facing all round and not hidden (tested only for vertices
-        // within reach of the stroke). One parallel pass.
-        let allowed: Vec<bool> = (0..region.verts.len() as u32)
-            .into_par_iter()
-            .with_min_len(256)
-            .map(|v| {
-                let faces = region.vertex_faces(v);
-                let Some(seen) = region.seen.get(v) else {
-                    return false;
-                };
-                let movable = region.complete[v as usize]
-                    && faces.iter().all(|&f| region.projectable(f))
-                    && faces.iter().any(|&f| region.cuttable[f as usize])
-                    && (!visible_only || faces.iter().all(|&f| region.cuttable[f as usize]));
-                match &buckets {
-                    // Visible-only: and seen before snapping.
-                    Some(buckets) if movable => {
-                        grid.distance_to(seen.screen, &segs) >= reach
-                            || !buckets.hidden(
-                                &region,
-                                seen.screen,
-                                seen.z,
-                                region.pos[v as usize],
-                                None,
-                                faces,
-                            )
-                    }
-                    _ => movable,
-                }
-            })
-            .collect();
+        // Which vertices may move: those the region's faces allow, and in visible-only mode
+        // only if seen before snapping (tested only for vertices within reach of the stroke).
+        let allowed: Vec<bool> = match &buckets {
+            None => std::mem::take(&mut region.movable),
+            Some(buckets) => (0..region.verts.len() as u32)
+                .into_par_iter()
+                .with_min_len(256)
+                .map(|v| {
+                    let (Some(seen), true) = (region.seen.get(v), region.movable[v as usize])
+                    else {
+                        return false;
+                    };
+                    grid.distance_to(seen.screen, &segs) >= reach
+                        || !buckets.hidden(
+                            &region,
+                            seen.screen,
+                            seen.z,
+                            region.pos[v as usize],
+                            None,
+                            region.vertex_faces(v),
+                        )
+                })
+                .collect(),
+        };
         let mut before = visible_only.then(|| Before::new(&region));
         let snapped = snap::snap(
             &mut region,

@@ -35,8 +35,10 @@ pub(crate) struct Region {
     pub pos: Vec<DVec3>,
     /// Each vertex as seen (NaN behind the eye).
     pub seen: SeenList,
-    /// Whether every face around the vertex is in the region (it is within the snap distance).
-    pub complete: Vec<bool>,
+    /// Whether the snap may move the vertex, as far as the region tells: every face around
+    /// it is in the region (it is within the snap distance) and in front of the eye, and the
+    /// cut may split one of them (in visible-only mode, all of them).
+    pub movable: Vec<bool>,
     /// Whether the vertex can lie on the stroke: within the snap distance of it, plus a slack
     /// far above rounding (the snapped polyline's points and segments are within a few ulps
     /// of the stroke's segments, so a vertex beyond is on none of them).
@@ -159,7 +161,7 @@ impl Region {
             seen,
             pos,
         } = keep_near(&candidates, tri, verts, seen, pos, &near, reach);
-        let (sign, cuttable) = face_signs(&tri, &seen, &pos, mode);
+        let (sign, (cuttable, projectable)) = face_signs(&tri, &seen, &pos, mode);
         // The visibility buckets (the longest) beside the adjacency and the per-vertex data.
         // The buckets' boxes are grown by the snap distance.
         let complete = || -> (Vec<bool>, Vec<bool>) {
@@ -177,12 +179,17 @@ impl Region {
                 })
                 .unzip()
         };
-        let lists = || rayon::join(|| vertex_faces_csr(&tri, verts.len()), complete);
+        let lists = || {
+            rayon::join(
+                || vertex_faces_csr(&tri, verts.len(), &cuttable, &projectable),
+                complete,
+            )
+        };
         // Only visible-only mode asks what hides a point (through all, the few points a cut
         // locates get their own table: `locate`). Without the buckets, no join around the
         // lists: this thread would wait in it for the other one's half, and a rayon thread
         // that waits without work falls asleep.
-        let (buckets, ((vf_start, vf_list, vf_corner), complete)) = match mode {
+        let (buckets, ((vf_start, vf_list, vf_corner, around), complete)) = match mode {
             CutMode::VisibleOnly => rayon::join(
                 || {
                     Some(FaceBuckets::new(
@@ -200,13 +207,25 @@ impl Region {
             CutMode::ThroughAll => (None, lists()),
         };
         let (complete, on_band) = complete;
+        // Which the snap may move: in the lists' pass over the faces, not in a pass of the
+        // snap's own over every vertex's faces (the snap then held up its step).
+        let all_cuttable = mode == CutMode::VisibleOnly;
+        let movable = complete
+            .iter()
+            .zip(&around)
+            .map(|(&c, &a)| {
+                c && a & SOME_UNPROJECTABLE == 0
+                    && a & SOME_CUTTABLE != 0
+                    && (!all_cuttable || a & SOME_UNCUTTABLE == 0)
+            })
+            .collect();
         let region = Region {
             faces,
             tri,
             verts,
             pos,
             seen,
-            complete,
+            movable,
             on_band,
             face_edges: Vec::new(),
             edges: Vec::new(),
@@ -752,9 +771,21 @@ fn edge_rows(
     Ok((edges, edge_faces))
 }
 
-/// Vertex → faces (CSR, faces ascending within each vertex), and beside each face its corner
-/// at the vertex (3 · face + corner).
-fn vertex_faces_csr(tri: &[[u32; 3]], nv: usize) -> (Vec<u32>, Vec<u32>, Vec<u32>) {
+/// [`vertex_faces_csr`]'s flags of a vertex's faces.
+const SOME_UNPROJECTABLE: u8 = 1;
+const SOME_CUTTABLE: u8 = 2;
+const SOME_UNCUTTABLE: u8 = 4;
+
+/// Vertex → faces (CSR, faces ascending within each vertex), beside each face its corner at
+/// the vertex (3 · face + corner), and what the faces around each vertex are (`SOME_*` flags
+/// from `cuttable` and `projectable`).
+#[allow(clippy::type_complexity)]
+fn vertex_faces_csr(
+    tri: &[[u32; 3]],
+    nv: usize,
+    cuttable: &[bool],
+    projectable: &[bool],
+) -> (Vec<u32>, Vec<u32>, Vec<u32>, Vec<u8>) {
     let mut vf_start = vec![0u32; nv + 1];
     for t in tri {
         for &v in t {
@@ -767,35 +798,47 @@ fn vertex_faces_csr(tri: &[[u32; 3]], nv: usize) -> (Vec<u32>, Vec<u32>, Vec<u32
     let mut fill = vf_start.clone();
     let mut vf_list = vec![0u32; vf_start[nv] as usize];
     let mut vf_corner = vec![0u32; vf_start[nv] as usize];
+    let mut around = vec![0u8; nv];
     for (lf, t) in tri.iter().enumerate() {
+        let flags = if projectable[lf] {
+            0
+        } else {
+            SOME_UNPROJECTABLE
+        } | if cuttable[lf] {
+            SOME_CUTTABLE
+        } else {
+            SOME_UNCUTTABLE
+        };
         for (c, &v) in t.iter().enumerate() {
             let at = fill[v as usize] as usize;
             vf_list[at] = lf as u32;
             vf_corner[at] = 3 * lf as u32 + c as u32;
             fill[v as usize] += 1;
+            around[v as usize] |= flags;
         }
     }
-    (vf_start, vf_list, vf_corner)
+    (vf_start, vf_list, vf_corner, around)
 }
 
-/// Each face's screen orientation sign (0 for a degenerate or clipped face) and whether the
-/// cut may split it, on rayon.
+/// Each face's screen orientation sign (0 for a degenerate or clipped face), whether the
+/// cut may split it and whether it is in front of the eye, on rayon.
+#[allow(clippy::type_complexity)]
 fn face_signs(
     tri: &[[u32; 3]],
     seen: &SeenList,
     pos: &[DVec3],
     mode: CutMode,
-) -> (Vec<f64>, Vec<bool>) {
+) -> (Vec<f64>, (Vec<bool>, Vec<bool>)) {
     tri.par_iter()
         .with_min_len(2048)
         .map(|t| {
             if !seen.front3(*t) {
-                return (0.0, false);
+                return (0.0, (false, false));
             }
             let [a, b, c] = map3(*t, |v| seen.screen[v as usize]);
             let p = [pos[t[0] as usize], pos[t[1] as usize], pos[t[2] as usize]];
             if is_degenerate(a, b, c, p) {
-                return (0.0, false);
+                return (0.0, (false, true));
             }
             let o = orient(a, b, c);
             // Front-facing = counter-clockwise in y-up NDC = negative orient on the y-down
@@ -804,7 +847,7 @@ fn face_signs(
                 CutMode::ThroughAll => true,
                 CutMode::VisibleOnly => o < 0.0,
             };
-            (o.signum(), cuttable)
+            (o.signum(), (cuttable, true))
         })
         .unzip()
 }

@@ -705,7 +705,9 @@ fn edge_rows(
     let n = rows.len();
     let mut edges = Vec::with_capacity(n * 3 + 16);
     let mut edge_faces = Vec::with_capacity(n * 3 + 16);
-    let mut at: Vec<(u32, u32)> = Vec::with_capacity(32);
+    // (neighbour, corner) packed as neighbour · 2³² + corner: one comparison each in the sort
+    // (a pair's derived order was two, with a branch between).
+    let mut at: Vec<u64> = Vec::with_capacity(32);
     let flat = tri.as_flattened();
     for a in rows {
         // The edges to the next and previous corner of each corner at `a`, kept when `a` is
@@ -714,7 +716,7 @@ fn edge_rows(
         // and a push per kept edge took 5% of the region's build more).
         let corners = &vf_corner[vf_start[a as usize] as usize..vf_start[a as usize + 1] as usize];
         at.clear();
-        at.resize(2 * corners.len(), (0, 0));
+        at.resize(2 * corners.len(), 0);
         let mut n = 0;
         for &k in corners {
             let (f, c) = (k / 3, k % 3);
@@ -723,18 +725,18 @@ fn edge_rows(
                 if c == 0 { 2 } else { c - 1 },
             );
             let (next, prev) = (flat[(3 * f + cn) as usize], flat[(3 * f + cp) as usize]);
-            at[n] = (next, k);
+            at[n] = (next as u64) << 32 | k as u64;
             n += (next > a) as usize;
-            at[n] = (prev, 3 * f + cp);
+            at[n] = (prev as u64) << 32 | (3 * f + cp) as u64;
             n += (prev > a) as usize;
         }
         at.truncate(n);
         super::radix::small_sort(&mut at);
         let mut i = 0;
         while i < at.len() {
-            let b = at[i].0;
+            let b = (at[i] >> 32) as u32;
             let mut j = i + 1;
-            while j < at.len() && at[j].0 == b {
+            while j < at.len() && (at[j] >> 32) as u32 == b {
                 j += 1;
             }
             let (ga, gb) = (verts[a as usize], verts[b as usize]);
@@ -745,7 +747,8 @@ fn edge_rows(
                     uses: (j - i) as u32,
                 });
             }
-            let corner = |k: usize| ((at[k].1 / 3) as usize, (at[k].1 % 3) as usize);
+            let corner_of = |k: usize| at[k] as u32;
+            let corner = |k: usize| ((corner_of(k) / 3) as usize, (corner_of(k) % 3) as usize);
             if j - i == 2 {
                 let from = |k: usize| {
                     let (f, c) = corner(k);
@@ -761,8 +764,8 @@ fn edge_rows(
             edges.push([a, b]);
             let mut ef = [NONE; 2];
             for k in i..j {
-                corner_edge[at[k].1 as usize].store(e | tag, Relaxed);
-                ef[k - i] = at[k].1 / 3;
+                corner_edge[corner_of(k) as usize].store(e | tag, Relaxed);
+                ef[k - i] = corner_of(k) / 3;
             }
             edge_faces.push(ef);
             i = j;

@@ -1081,6 +1081,47 @@ fn a_non_manifold_edge_under_the_stroke_is_an_error_and_elsewhere_is_not() {
     assert_eq!(out.report.paths.len(), 1);
 }
 
+/// A face turned the other way under the stroke: the edge it shares with a neighbour runs
+/// the same way in both, an error naming that edge as both faces run it (from, to), the
+/// first in vertex order; a face turned away from the stroke is no error.
+#[test]
+fn a_face_turned_over_under_the_stroke_is_an_error_naming_its_edge() {
+    let g = tri_grid(8, 8);
+    let faces: Vec<Vec<u32>> = g
+        .faces()
+        .map(|f| g.face_outer(f).iter().map(|v| v.0).collect())
+        .collect();
+    let v = top_view(-0.5, 8.5, -0.5, 8.5, 0.02);
+    let s = [px(1.2, 3.6), px(6.3, 3.4)];
+    // The two faces of grid cell (3, 3), under the stroke, and of cell (3, 7), away from it.
+    for (cell, under) in [(3 * 8 + 3, true), (7 * 8 + 3, false)] {
+        for pick in 0..2 {
+            let k = 2 * cell + pick;
+            let mut turned = faces.clone();
+            turned[k].reverse();
+            let m = PolyMesh::from_polygons(g.positions().to_vec(), turned.clone()).unwrap();
+            let r = cut_by_stroke(&m, &stroke(&s), &v, &through_all());
+            if !under {
+                assert_eq!(r.unwrap().report.paths.len(), 1);
+                continue;
+            }
+            // The turned face's sides as it runs them but the one along a grid row (its
+            // neighbour there is beyond the snap distance, not in the cut's region); the
+            // first by (smaller end, larger end).
+            let f = &turned[k];
+            let want = (0..3)
+                .map(|i| (f[i], f[(i + 1) % 3]))
+                .filter(|&(a, b)| a / 9 != b / 9)
+                .min_by_key(|&(a, b)| (a.min(b), a.max(b)))
+                .unwrap();
+            match r.unwrap_err() {
+                Error::InconsistentOrientation { a, b } => assert_eq!((a, b), want),
+                e => panic!("{e}"),
+            }
+        }
+    }
+}
+
 // ---------------------------------------------------------------- fuzz findings
 
 /// Pixel position of grid point (i, j) · n / 20 in the integer-grid property's view.

@@ -705,8 +705,11 @@ fn edge_rows(
     let n = rows.len();
     let mut edges = Vec::with_capacity(n * 3 + 16);
     let mut edge_faces = Vec::with_capacity(n * 3 + 16);
-    // (neighbour, corner) packed as neighbour · 2³² + corner: one comparison each in the sort
-    // (a pair's derived order was two, with a branch between).
+    // (neighbour, corner, kind) packed as neighbour · 2³² + corner · 2 + kind: one comparison
+    // each in the sort (a pair's derived order was two, with a branch between). The kind
+    // tells which end of the edge the corner is at: 0 at `a` (the edge to the next corner),
+    // 1 at the neighbour (from the previous corner), so the orientation check reads no face.
+    debug_assert!(tri.len() < 1 << 30, "corners fit in 31 bits");
     let mut at: Vec<u64> = Vec::with_capacity(32);
     let flat = tri.as_flattened();
     for a in rows {
@@ -725,9 +728,9 @@ fn edge_rows(
                 if c == 0 { 2 } else { c - 1 },
             );
             let (next, prev) = (flat[(3 * f + cn) as usize], flat[(3 * f + cp) as usize]);
-            at[n] = (next as u64) << 32 | k as u64;
+            at[n] = (next as u64) << 32 | (k as u64) << 1;
             n += (next > a) as usize;
-            at[n] = (prev as u64) << 32 | (3 * f + cp) as u64;
+            at[n] = (prev as u64) << 32 | ((3 * f + cp) as u64) << 1 | 1;
             n += (prev > a) as usize;
         }
         at.truncate(n);
@@ -739,25 +742,21 @@ fn edge_rows(
             while j < at.len() && (at[j] >> 32) as u32 == b {
                 j += 1;
             }
-            let (ga, gb) = (verts[a as usize], verts[b as usize]);
+            let global = || (verts[a as usize], verts[b as usize]);
             if j - i > 2 {
+                let (ga, gb) = global();
                 return Err(Error::NonManifoldEdge {
                     a: ga,
                     b: gb,
                     uses: (j - i) as u32,
                 });
             }
-            let corner_of = |k: usize| at[k] as u32;
-            let corner = |k: usize| ((corner_of(k) / 3) as usize, (corner_of(k) % 3) as usize);
-            if j - i == 2 {
-                let from = |k: usize| {
-                    let (f, c) = corner(k);
-                    tri[f][c]
-                };
-                if from(i) == from(i + 1) {
-                    let (fa, fb) = if from(i) == a { (ga, gb) } else { (gb, ga) };
-                    return Err(Error::InconsistentOrientation { a: fa, b: fb });
-                }
+            let corner_of = |k: usize| at[k] as u32 >> 1;
+            // Both uses run the same way: from `a` (kind 0) or from the neighbour (1).
+            if j - i == 2 && (at[i] ^ at[i + 1]) & 1 == 0 {
+                let (ga, gb) = global();
+                let (fa, fb) = if at[i] & 1 == 0 { (ga, gb) } else { (gb, ga) };
+                return Err(Error::InconsistentOrientation { a: fa, b: fb });
             }
             let e = edges.len() as u32;
             debug_assert!(e & tag == 0, "an edge number reaches the tag bit");

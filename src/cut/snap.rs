@@ -63,9 +63,12 @@ pub(crate) fn snap(
     // Nearby segments of a screen point, from its grid cell (the margin covers max(rv, rs)).
     let near = |s: DVec2| grid.segments_near(s);
 
-    // Step 2: to stroke vertices; each stroke vertex takes its nearest model vertex. The
-    // nearest of each vertex found on rayon (in vertex order), then taken nearest first.
-    let mut pairs: Vec<(f64, u32, u32)> = if rv > 0.0 {
+    // Each movable vertex's nearest stroke vertex within rv (step 2) and nearest foot on a
+    // stroke segment within rs (step 3), on rayon in vertex order, in one pass (two passes
+    // each took the vertices and their nearby segments again). A foot stays valid for step
+    // 3: step 2 moves only the vertices it snaps, which step 3 skips.
+    #[allow(clippy::type_complexity)]
+    let found: Vec<(u32, Option<(f64, u32)>, Option<(f64, u32, f64, DVec2)>)> = {
         let region = &*region;
         (0..region.verts.len() as u32)
             .into_par_iter()
@@ -75,21 +78,45 @@ pub(crate) fn snap(
                     return None;
                 }
                 let s = region.screen(v);
-                let mut best: Option<(f64, u32)> = None;
+                let mut point: Option<(f64, u32)> = None;
+                let mut foot: Option<(f64, u32, f64, DVec2)> = None;
                 for &si in near(s) {
-                    for k in [si as usize, (si as usize + 1) % n] {
-                        let d = (prep.points[k] - s).length();
-                        if d < rv && best.is_none_or(|(bd, bk)| (d, k as u32) < (bd, bk)) {
-                            best = Some((d, k as u32));
+                    if rv > 0.0 {
+                        for k in [si as usize, (si as usize + 1) % n] {
+                            let d = (prep.points[k] - s).length();
+                            if d < rv && point.is_none_or(|(bd, bk)| (d, k as u32) < (bd, bk)) {
+                                point = Some((d, k as u32));
+                            }
+                        }
+                    }
+                    if rs > 0.0 {
+                        let (a, b) = segments[si as usize];
+                        let ab = b - a;
+                        let t = ((s - a).dot(ab) / ab.length_squared()).clamp(0.0, 1.0);
+                        let q = if t == 0.0 {
+                            a
+                        } else if t == 1.0 {
+                            b
+                        } else {
+                            a + ab * t
+                        };
+                        let d = (q - s).length();
+                        if d < rs && foot.is_none_or(|(bd, bs, ..)| (d, si) < (bd, bs)) {
+                            foot = Some((d, si, t, q));
                         }
                     }
                 }
-                best.map(|(d, k)| (d, v, k))
+                (point.is_some() || foot.is_some()).then_some((v, point, foot))
             })
             .collect()
-    } else {
-        Vec::new()
     };
+
+    // Step 2: to stroke vertices; each stroke vertex takes its nearest model vertex, taken
+    // nearest first.
+    let mut pairs: Vec<(f64, u32, u32)> = found
+        .iter()
+        .filter_map(|&(v, point, _)| point.map(|(d, k)| (d, v, k)))
+        .collect();
     // By distance, then vertex (distances are lengths: neither negative nor NaN, so their
     // bits sort as they do).
     pairs.sort_unstable_by_key(|p| (p.0.to_bits(), p.1));
@@ -109,41 +136,12 @@ pub(crate) fn snap(
     }
 
     // Step 3: onto stroke segments; each snap inserts a stroke point at the foot.
-    // (dist, v, seg, t, q), found on rayon as in step 2.
-    let feet: Vec<(f64, u32, u32, f64, DVec2)> = if rs > 0.0 {
-        let region = &*region;
-        let snapped = &snapped;
-        (0..region.verts.len() as u32)
-            .into_par_iter()
-            .with_min_len(512)
-            .filter_map(|v| {
-                if !allowed[v as usize] || snapped[v as usize] {
-                    return None;
-                }
-                let s = region.screen(v);
-                let mut best: Option<(f64, u32, f64, DVec2)> = None;
-                for &si in near(s) {
-                    let (a, b) = segments[si as usize];
-                    let ab = b - a;
-                    let t = ((s - a).dot(ab) / ab.length_squared()).clamp(0.0, 1.0);
-                    let q = if t == 0.0 {
-                        a
-                    } else if t == 1.0 {
-                        b
-                    } else {
-                        a + ab * t
-                    };
-                    let d = (q - s).length();
-                    if d < rs && best.is_none_or(|(bd, bs, ..)| (d, si) < (bd, bs)) {
-                        best = Some((d, si, t, q));
-                    }
-                }
-                best.map(|(d, si, t, q)| (d, v, si, t, q))
-            })
-            .collect()
-    } else {
-        Vec::new()
-    };
+    // (dist, v, seg, t, q) of the vertices step 2 left where they were.
+    let feet: Vec<(f64, u32, u32, f64, DVec2)> = found
+        .iter()
+        .filter(|&&(v, ..)| !snapped[v as usize])
+        .filter_map(|&(v, _, foot)| foot.map(|(d, si, t, q)| (d, v, si, t, q)))
+        .collect();
     // By distance, then vertex (one foot per vertex), as in step 2: a sort of packed keys
     // with each foot's index, not of the 48-byte feet (with the sort of the inserted points
     // below, 9% to 15% of this step on spot).

@@ -192,11 +192,17 @@ pub(crate) fn normalize(region: &Region, occ: &[Occ], chain: &[u32]) -> Vec<Norm
             let prev = a[k - 1];
             let (x, y) = (occ[prev as usize].elem, occ[o as usize].elem);
             let common = fx.iter().copied().find(|f| fy.contains(f));
+            // Two vertices of one triangle are the ends of one of its sides: with a face in
+            // common they are along an edge, without one only if a face the cut may not
+            // split joins them.
             let along = match (x, y) {
-                (Elem::V(u), Elem::V(w)) => region
-                    .vertex_faces(u)
-                    .iter()
-                    .any(|&f| region.tri[f as usize].contains(&w)),
+                (Elem::V(u), Elem::V(w)) => {
+                    common.is_some()
+                        || region
+                            .vertex_faces(u)
+                            .iter()
+                            .any(|&f| region.tri[f as usize].contains(&w))
+                }
                 _ => false,
             };
             match (common, along) {

@@ -537,17 +537,16 @@ fn plan<'a>(
     let ((rewritten_faces, appended_faces), (split_ends, split_start, split_on)) = rayon::join(
         || {
             let to_global = |t: &[u32; 3]| geom::map3(*t, gid);
-            let mut touched = spr.touched.clone();
-            touched.sort_unstable();
-            let mut rewritten_faces = Vec::with_capacity(touched.len());
-            let mut appended_faces = Vec::with_capacity(2 * touched.len());
-            for &lf in &touched {
-                let subs = spr.pieces_of(lf).expect("touched");
+            let n = spr.touched.len();
+            let mut rewritten_faces = Vec::with_capacity(n);
+            let mut appended_faces = Vec::with_capacity(2 * n);
+            // Ascending local faces are ascending triangles: rewritten in order.
+            for (lf, subs) in spr.touched_in_order() {
                 let slot = FaceId(region.faces[lf as usize]);
                 rewritten_faces.push((slot, to_global(&subs[0])));
                 appended_faces.extend(subs[1..].iter().map(|t| (to_global(t), slot)));
             }
-            rewritten_faces.sort_unstable_by_key(|x| x.0);
+            debug_assert!(rewritten_faces.is_sorted_by_key(|x| x.0));
             (rewritten_faces, appended_faces)
         },
         || {

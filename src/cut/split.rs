@@ -157,6 +157,18 @@ impl<'r> Splitter<'r> {
         subs
     }
 
+    /// The touched faces in ascending order with their sub-triangles: a walk over every
+    /// face's slot, cheaper than a sort of the few thousand touched.
+    pub fn touched_in_order(&self) -> impl Iterator<Item = (u32, &Pieces)> {
+        let items = &self.pieces.items;
+        self.pieces
+            .slot
+            .iter()
+            .enumerate()
+            .filter(|&(_, &k)| k != NONE)
+            .map(move |(lf, &k)| (lf as u32, &items[k as usize]))
+    }
+
     /// The sub-triangles of a touched face.
     pub fn pieces_of(&self, lf: u32) -> Option<&Pieces> {
         self.pieces.get(lf)

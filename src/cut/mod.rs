@@ -738,11 +738,16 @@ fn edge_between(region: &Region, u: u32, w: u32) -> Option<u32> {
     if u >= n0 || w >= n0 {
         return None;
     }
+    // The side of a face around `u` from one to the other (an edge has one number,
+    // whichever face names it); the faces' corners, not every side's ends, are read.
     region.vertex_faces(u).iter().find_map(|&f| {
-        region.face_edges[f as usize].iter().copied().find(|&e| {
-            let [a, b] = region.edges[e as usize];
-            (a, b) == (u.min(w), u.max(w))
-        })
+        let t = region.tri[f as usize];
+        (0..3)
+            .find(|&i| {
+                let (a, b) = (t[i], t[(i + 1) % 3]);
+                (a == u && b == w) || (a == w && b == u)
+            })
+            .map(|i| region.face_edges[f as usize][i])
     })
 }
 

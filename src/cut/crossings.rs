@@ -284,6 +284,12 @@ pub(crate) fn find_occurrences<'b>(
                         },
                     };
                     let (ja, jb) = (point_of[ia as usize], point_of[ib as usize]);
+                    // Ends on consecutive polyline points: the edge is that polyline
+                    // segment, which no other one meets (the stroke does not meet itself),
+                    // so it meets the polyline only at its ends (the vertex loop's).
+                    if ja != NONE && jb != NONE && ja.abs_diff(jb) == 1 {
+                        continue;
+                    }
                     for &si in near {
                         let Some(w) = strips[si as usize].window(a, b) else {
                             continue;

@@ -188,8 +188,10 @@ pub(crate) fn find_occurrences<'b>(
         // each from all its edges). First: the edge loop skips most pairs at the polyline
         // points they give. Only vertices on the stroke's band can be on it: the others are
         // skipped untested (the loop −28% on spot, through all). A snapped vertex is on the
-        // point the snap put it on and on no other (the polyline does not meet itself):
-        // untested too (most of the band's vertices are snapped).
+        // point the snap put it on and on no other segment: the stroke's check keeps its
+        // non-adjacent segments 1e-9 of its size apart (`stroke::check_self_intersection`),
+        // and the polyline's points are a few ulps off them. Untested too (most of the band's
+        // vertices are snapped).
         let nv = region.verts.len() as u32;
         let mut snapped_on = vec![NONE; nv as usize];
         for (&(v, ..), &j) in moves.iter().zip(move_points) {
@@ -285,8 +287,8 @@ pub(crate) fn find_occurrences<'b>(
                     };
                     let (ja, jb) = (point_of[ia as usize], point_of[ib as usize]);
                     // Ends on consecutive polyline points: the edge is that polyline
-                    // segment, which no other one meets (the stroke does not meet itself),
-                    // so it meets the polyline only at its ends (the vertex loop's).
+                    // segment, which no other one meets (as for the snapped vertices
+                    // above), so it meets the polyline only at its ends (the vertex loop's).
                     if ja != NONE && jb != NONE && ja.abs_diff(jb) == 1 {
                         continue;
                     }

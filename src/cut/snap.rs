@@ -151,45 +151,28 @@ pub(crate) fn snap(
         .map(|(i, f)| (f.0.to_bits() as u128) << 64 | (f.1 as u128) << 32 | i as u128)
         .collect();
     keys.sort_unstable();
-    let mut inserted: Vec<(u32, f64, DVec2)> = Vec::with_capacity(feet.len());
+    // Every foot a vertex was moved to (those at a segment's end too: they say where the
+    // vertex went), in snapping order.
+    let mut placed: Vec<(u32, f64, DVec2)> = Vec::with_capacity(feet.len());
     for &(_, v, si, t, q) in keys.iter().map(|&k| &feet[k as u32 as usize]) {
         if guard(region, v, q, min_area2) {
-            targets.push(if t > 0.0 && t < 1.0 {
-                Target::Foot(inserted.len() as u32)
-            } else {
-                Target::Segment(si, q)
-            });
+            targets.push(Target::Foot(placed.len() as u32));
+            placed.push((si, t, q));
             moves.push(apply(region, proj, v, q));
             snapped[v as usize] = true;
             refused_any[v as usize] = false;
-            if t > 0.0 && t < 1.0 {
-                inserted.push((si, t, q));
-            }
         } else {
             refused_any[v as usize] = true;
         }
     }
     // By segment, then parameter, ties in snapping order (a stable sort, as packed keys).
-    let mut keys: Vec<u128> = inserted
+    let mut keys: Vec<u128> = placed
         .iter()
         .enumerate()
         .map(|(i, x)| (x.0 as u128) << 96 | (super::radix::f64_key(x.1) as u128) << 32 | i as u128)
         .collect();
     keys.sort_unstable();
     let order: Vec<u32> = keys.iter().map(|&k| k as u32).collect();
-    let mut inserted: Vec<(u32, f64, DVec2)> =
-        order.iter().map(|&i| inserted[i as usize]).collect();
-    // Each foot's place among the kept ones (a foot equal to the one before it is that one).
-    let mut kept_of = vec![0u32; order.len()];
-    let mut kept = 0u32;
-    for (r, &i) in order.iter().enumerate() {
-        if r > 0 && inserted[r - 1].0 == inserted[r].0 && inserted[r - 1].2 == inserted[r].2 {
-            kept -= 1;
-        }
-        kept_of[i as usize] = kept;
-        kept += 1;
-    }
-    inserted.dedup_by(|a, b| a.0 == b.0 && a.2 == b.2);
 
     // The snapped polyline: prepared points with the feet inserted in segment order. A closed
     // stroke starts at its first corner, else at a stroke vertex holding a model vertex, so
@@ -202,13 +185,13 @@ pub(crate) fn snap(
         (0..n).find(|&k| taken[k]).unwrap_or(0)
     };
     let mut line = Polyline {
-        pts: Vec::with_capacity(n + inserted.len() + 1),
+        pts: Vec::with_capacity(n + placed.len() + 1),
         src: Vec::new(),
         on_vertex: Vec::new(),
     };
     let mut start_of = vec![0u32; n];
-    // The polyline point of each kept foot not at a segment end (NONE for those).
-    let mut foot_point = vec![NONE; inserted.len()];
+    // The polyline point of each foot, by its index in `placed`.
+    let mut foot_point = vec![NONE; placed.len()];
     let segs = prep.segment_count();
     for i in 0..n {
         let k = (k0 + i) % n;
@@ -219,16 +202,34 @@ pub(crate) fn snap(
         if k >= segs {
             continue;
         }
-        let lo = inserted.partition_point(|x| (x.0 as usize) < k);
-        let hi = inserted.partition_point(|x| (x.0 as usize) <= k);
-        for (f, &(_, _, q)) in inserted[lo..hi].iter().enumerate() {
-            // A foot equal to the segment's end point is that point.
-            if q != prep.points[k] && q != prep.points[(k + 1) % n] {
-                foot_point[lo + f] = line.pts.len() as u32;
+        let in_k = |f: &u32| (placed[*f as usize].0 as usize).cmp(&k);
+        let lo = order.partition_point(|f| in_k(f).is_lt());
+        let hi = order.partition_point(|f| in_k(f).is_le());
+        let mut at_end = Vec::new();
+        let mut before: Option<DVec2> = None;
+        for &f in &order[lo..hi] {
+            let q = placed[f as usize].2;
+            // A foot equal to an end point of the segment is that point; one equal to the
+            // foot before it is that one's point.
+            foot_point[f as usize] = if q == prep.points[k] {
+                start_of[k]
+            } else if q == prep.points[(k + 1) % n] {
+                at_end.push(f);
+                NONE
+            } else if before == Some(q) {
+                line.pts.len() as u32 - 1
+            } else {
                 line.pts.push(q);
                 line.src.push(None);
                 line.on_vertex.push(true);
-            }
+                line.pts.len() as u32 - 1
+            };
+            before = Some(q);
+        }
+        // The segment's end is the next point pushed (the closing point of a closed stroke
+        // after its last segment).
+        for f in at_end {
+            foot_point[f as usize] = line.pts.len() as u32;
         }
     }
     if prep.closed {
@@ -237,7 +238,7 @@ pub(crate) fn snap(
         line.on_vertex.push(taken[k0]);
     }
     let last = line.pts.len() as u32 - 1;
-    let seg_range: Vec<(u32, u32)> = (0..segs)
+    let seg_range = (0..segs)
         .map(|k| {
             let next = (k + 1) % n;
             let end = if prep.closed && next == k0 {
@@ -248,29 +249,11 @@ pub(crate) fn snap(
             (start_of[k], end)
         })
         .collect();
-    // A vertex snapped onto a stroke point, or a foot at a segment's end, sits on that point;
-    // one on a foot inserted inside a segment, on the foot's point.
-    let at_end = |si: u32, q: DVec2| {
-        let (j0, j1) = seg_range[si as usize];
-        if q == line.pts[j0 as usize] {
-            j0
-        } else {
-            debug_assert_eq!(q, line.pts[j1 as usize], "a foot at a segment's end");
-            j1
-        }
-    };
     let move_points = targets
         .iter()
         .map(|t| match *t {
             Target::Point(k) => start_of[k as usize],
-            Target::Segment(si, q) => at_end(si, q),
-            Target::Foot(i) => {
-                let f = kept_of[i as usize] as usize;
-                match foot_point[f] {
-                    NONE => at_end(inserted[f].0, inserted[f].2),
-                    j => j,
-                }
-            }
+            Target::Foot(f) => foot_point[f as usize],
         })
         .collect();
     let refused = (0..region.verts.len() as u32)
@@ -286,12 +269,11 @@ pub(crate) fn snap(
     }
 }
 
-/// Where a move put its vertex: on prepared point `k`, on a foot at an end of segment `si`
-/// (at `q`), or on inserted foot `i` (its index among the feet in snapping order).
+/// Where a move put its vertex: on prepared point `k`, or on foot `f` (its index among the
+/// feet in snapping order).
 #[derive(Clone, Copy)]
 enum Target {
     Point(u32),
-    Segment(u32, DVec2),
     Foot(u32),
 }
 

@@ -202,8 +202,22 @@ fn meshlab_source(dir: &Path) -> Result<PathBuf, String> {
     }
     ensure_deb_src()?;
     std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+    // The source of the installed MeshLab, not the newest one apt knows: a deb-src entry for
+    // another suite (such as unstable, for MeshLab 2025.07's headers) must not change which
+    // headers the 2020.09 plugin is built against.
+    let installed = Command::new("dpkg-query")
+        .args(["-W", "-f=${Version}", "meshlab"])
+        .output()
+        .ok()
+        .filter(|o| o.status.success())
+        .map(|o| String::from_utf8_lossy(&o.stdout).trim().to_string())
+        .filter(|v| !v.is_empty());
+    let spec = match &installed {
+        Some(version) => format!("meshlab={version}"),
+        None => "meshlab".to_string(),
+    };
     let mut cmd = Command::new("apt-get");
-    cmd.args(["source", "-q", "meshlab"]);
+    cmd.args(["source", "-q", &spec]);
     run_in(dir, &mut cmd)?;
     find_source(dir).ok_or_else(|| {
         format!(

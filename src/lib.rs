@@ -1,9 +1,9 @@
 //! # katachi (形, "shape")
 //!
-//! A mesh-modelling kernel: solid-aware Catmull-Clark subdivision (seed 001), stroke cut
-//! (seed 002), rough-model editing (seed 003) and curved anisotropic meshing (seed 000),
-//! shipped as a Rust library, a C library (`include/katachi.h`), a command-line tool, a
-//! Blender add-on and a MeshLab plugin.
+//! A mesh-modelling kernel: solid-aware Catmull-Clark subdivision ([`subdivide`], seed 001)
+//! and the stroke cut ([`cut`], seed 002) over polygon meshes whose faces may have holes
+//! ([`mesh`]), with OBJ, PLY and OFF files ([`io`]), shipped as a Rust library, a C library
+//! ([`ffi`], `include/katachi.h`), a command-line tool, a Blender add-on and a MeshLab plugin.
 //!
 //! Every operation is a pure function `op(&PolyMesh, &Options) -> Result<Output, Error>`:
 //! it never changes its input, and bad input gets an [`Error`] naming the element at fault.

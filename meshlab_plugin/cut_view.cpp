@@ -271,6 +271,14 @@ bool parse_camera_xml(const QString &text, Shotm &shot, QString &error) {
                         .arg(v);
             return false;
         }
+    // vcg's camera types: 0 perspective, 1 orthographic, 2 isometric, 3 cavalier.
+    const double camera_type = type.empty() ? 0.0 : type[0];
+    if (!(camera_type == 0.0 || camera_type == 1.0 || camera_type == 2.0 || camera_type == 3.0)) {
+        error = QString("katachi: the camera XML's CameraType is %1; vcg knows 0 (perspective), "
+                        "1 (orthographic), 2 (isometric) and 3 (cavalier)")
+                    .arg(camera_type);
+        return false;
+    }
     // The meaning of each attribute is vcg's (wrap/qt/shot_qt.h, ReadShotFromQDomNode): the
     // translation vector is minus the viewpoint, the rotation matrix is row-major.
     Shotm s;
@@ -280,7 +288,7 @@ bool parse_camera_xml(const QString &text, Shotm &shot, QString &error) {
         for (int x = 0; x < 4; ++x) r[y][x] = Scalarm(rot[size_t(x + 4 * y)]);
     s.Extrinsics.SetRot(r);
     vcg::Camera<Scalarm> &c = s.Intrinsics;
-    c.cameraType = type.empty() ? 0 : int(type[0]);
+    c.cameraType = static_cast<decltype(c.cameraType)>(int(camera_type));
     c.FocalMm = Scalarm(focal[0]);
     c.ViewportPx = vcg::Point2<int>(int(viewport[0]), int(viewport[1]));
     c.CenterPx = vcg::Point2<Scalarm>(Scalarm(center[0]), Scalarm(center[1]));

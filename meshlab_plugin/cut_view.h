@@ -25,7 +25,7 @@
 #ifndef KATACHI_MESHLAB_CUT_VIEW_H
 #define KATACHI_MESHLAB_CUT_VIEW_H
 
-#include <common/ml_mesh_type.h>
+#include "meshlab_api.h"
 
 #include <QObject>
 #include <QString>

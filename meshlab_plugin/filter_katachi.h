@@ -1,87 +1,71 @@
-// katachi MeshLab plugin: the filters "katachi: Solid-aware subdivision" and
-// "katachi: Cut by polyline".
+// katachi MeshLab plugin: the plugin class, the one place where MeshLab's two plugin
+// interfaces differ.
 //
-// Built against MeshLab 2020.09 (MeshFilterInterface), the version Debian 12 ships and the
-// one the tests run. MeshLab 2022.02 and later replaced that interface with FilterPlugin;
-// the same source compiles against it when <common/plugins/interfaces/filter_plugin.h> is
-// found (or KATACHI_MESHLAB_FILTER_PLUGIN_API is defined), but that variant is untested.
+// MeshLab 2020.09 (Debian 12's; meshlabserver) loads a MeshFilterInterface; MeshLab 2022.02
+// and later (2025.07, its AppImage/flatpak, pymeshlab) load a FilterPlugin. Both builds come
+// from the same sources: this class forwards each call to filters.h, and only the
+// signatures, the error channel (2020.09: return false with errorMessage; 2025.07: throw
+// MLException) and the log differ. CMake defines KATACHI_MESHLAB_FILTER_PLUGIN_API for the
+// newer interface (meshlab_api.h).
 //
 // License: MIT OR Apache-2.0.
 
 #ifndef KATACHI_MESHLAB_FILTER_KATACHI_H
 #define KATACHI_MESHLAB_FILTER_KATACHI_H
 
-#if !defined(KATACHI_MESHLAB_FILTER_PLUGIN_API) && defined(__has_include)
-#if __has_include(<common/plugins/interfaces/filter_plugin.h>)
-#define KATACHI_MESHLAB_FILTER_PLUGIN_API 1
-#endif
-#endif
+#include "meshlab_api.h"
 
 #include <QObject>
 
 #ifdef KATACHI_MESHLAB_FILTER_PLUGIN_API
-#include <common/plugins/interfaces/filter_plugin.h>
-#else
-#include <common/interfaces.h>
-#endif
 
-#ifdef KATACHI_MESHLAB_FILTER_PLUGIN_API
 class KatachiFilterPlugin : public QObject, public FilterPlugin
 {
     Q_OBJECT
     MESHLAB_PLUGIN_IID_EXPORTER(FILTER_PLUGIN_IID)
     Q_INTERFACES(FilterPlugin)
-#else
+
+public:
+    KatachiFilterPlugin();
+    QString pluginName() const override;
+    QString vendor() const override { return "katachi"; }
+    QString filterName(ActionIDType filter) const override;
+    QString filterInfo(ActionIDType filter) const override;
+    FilterClass getClass(const QAction *) const override;
+    FilterArity filterArity(const QAction *) const override { return SINGLE_MESH; }
+    int getPreConditions(const QAction *) const override;
+    int postCondition(const QAction *) const override;
+    RichParameterList initParameterList(const QAction *, const MeshDocument &md) override;
+    std::map<std::string, QVariant> applyFilter(const QAction *action,
+                                                const RichParameterList &params,
+                                                MeshDocument &md,
+                                                unsigned int &postConditionMask,
+                                                vcg::CallBackPos *cb) override;
+};
+
+#else // MeshLab 2020.09
+
 class KatachiFilterPlugin : public QObject, public MeshFilterInterface
 {
     Q_OBJECT
     MESHLAB_PLUGIN_IID_EXPORTER(MESH_FILTER_INTERFACE_IID)
     Q_INTERFACES(MeshFilterInterface)
-#endif
 
 public:
-    enum { FP_KATACHI_SUBDIVIDE, FP_KATACHI_CUT };
-
     KatachiFilterPlugin();
-
-    QString pluginName() const;
-#ifdef KATACHI_MESHLAB_FILTER_PLUGIN_API
-    QString filterName(ActionIDType filter) const;
-    QString filterInfo(ActionIDType filter) const;
-    FilterClass getClass(const QAction *) const;
-    FilterArity filterArity(const QAction *) const { return SINGLE_MESH; }
-    int getPreConditions(const QAction *) const;
-    int postCondition(const QAction *) const;
-    RichParameterList initParameterList(const QAction *, const MeshDocument &md);
-    std::map<std::string, QVariant> applyFilter(const QAction *action,
-                                                const RichParameterList &params,
-                                                MeshDocument &md,
-                                                unsigned int &postConditionMask,
-                                                vcg::CallBackPos *cb);
-#else
-    QString filterName(FilterIDType filter) const;
-    QString filterInfo(FilterIDType filter) const;
-    FilterClass getClass(QAction *);
-    FILTER_ARITY filterArity(QAction *) const { return SINGLE_MESH; }
-    int getRequirements(QAction *) { return MeshModel::MM_NONE; }
-    int getPreConditions(QAction *) const;
-    int postCondition(QAction *) const;
-    void initParameterSet(QAction *, MeshDocument &md, RichParameterList &par);
+    QString pluginName() const override;
+    QString filterName(FilterIDType filter) const override;
+    QString filterInfo(FilterIDType filter) const override;
+    FilterClass getClass(QAction *) override;
+    FILTER_ARITY filterArity(QAction *) const override { return SINGLE_MESH; }
+    int getRequirements(QAction *) override { return MeshModel::MM_NONE; }
+    int getPreConditions(QAction *) const override;
+    int postCondition(QAction *) const override;
+    void initParameterSet(QAction *, MeshDocument &md, RichParameterList &par) override;
     bool applyFilter(QAction *filter, MeshDocument &md, const RichParameterList &par,
-                     vcg::CallBackPos *cb);
-#endif
-
-private:
-    void addParameters(int filter, const MeshDocument &md, RichParameterList &par) const;
-    /// Runs filter `filter`; on failure returns false with `error` set and the document
-    /// unchanged.
-    bool run(int filter, MeshDocument &md, const RichParameterList &par, vcg::CallBackPos *cb,
-             QString &error);
-    bool subdivide(MeshDocument &md, const RichParameterList &par, vcg::CallBackPos *cb,
-                   QString &error);
-    bool cutByPolyline(MeshDocument &md, const RichParameterList &par, vcg::CallBackPos *cb,
-                       QString &error);
-    void note(const QString &message);
+                     vcg::CallBackPos *cb) override;
 };
+
+#endif
 
 #endif

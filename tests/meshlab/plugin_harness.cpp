@@ -195,7 +195,7 @@ static void check_refused(Harness &h, const std::string &what,
         fill_layer(*m);
         const Snapshot before = snapshot(*m);
         RichParameterList par = h.params(md);
-        par.setValue("newLayer", BoolValue(new_layer));
+        par.setValue("new_layer", BoolValue(new_layer));
         set(par);
         h.log.Clear();
         const bool ok = h.apply(md, par);
@@ -207,6 +207,35 @@ static void check_refused(Harness &h, const std::string &what,
         check(contains(h.logText(), msg), where + in_log);
         check(md.size() == 1 && snapshot(*m) == before, where + unchanged);
     }
+}
+
+/// A label as pymeshlab spells a parameter name (MeshLab 2022+'s rule, written from its
+/// documentation: lower case; spaces, slashes and dashes become underscores; brackets,
+/// dots, commas, quotes, colons and plus signs go).
+static std::string python_name(const QString &label) {
+    std::string out;
+    for (QChar qc : label.toLower()) {
+        const char c = qc.toLatin1();
+        if (c == ' ' || c == '/' || c == '-')
+            out += '_';
+        else if (!std::strchr("().,'\":+", c))
+            out += c;
+    }
+    return out;
+}
+
+/// Every parameter's name is its label in pymeshlab's spelling, so pymeshlab users and
+/// script writers see the words of the dialog.
+static void check_names_are_labels(const RichParameterList &par, const std::string &what) {
+    bool all = par.size() > 0;
+    std::string bad;
+    for (const RichParameter &p : par) {
+        if (p.name().toStdString() != python_name(p.fieldDescription())) {
+            all = false;
+            bad += " " + p.name().toStdString() + " ('" + p.fieldDescription().toStdString() + "')";
+        }
+    }
+    check(all, what + ": each parameter's name is its label as pymeshlab spells it" + bad);
 }
 
 static void test_faux_polygons() {
@@ -266,14 +295,16 @@ static void test_filter(Harness &h) {
         MeshDocument md;
         fill_cube(*md.addNewMesh("", "cube"));
         RichParameterList par = h.params(md);
-        const char *names[] = {"levels", "holeMethod", "recoverFacesWithHoles", "featureAngle",
-                               "boundary", "newLayer"};
+        const char *names[] = {"levels",   "faces_with_holes", "recover_faces_with_holes",
+                               "feature_angle_degrees", "boundary", "new_layer"};
         bool all = par.size() == 6;
         for (const char *n : names) all = all && par.hasParameter(n);
-        check(all, "parameters: levels, holeMethod, recoverFacesWithHoles, featureAngle, "
-                   "boundary, newLayer");
-        check(par.getInt("levels") == 1 && par.getBool("newLayer") &&
-                  !par.getBool("recoverFacesWithHoles") && par.getFloat("featureAngle") == 0.f,
+        check(all, "parameters: levels, faces_with_holes, recover_faces_with_holes, "
+                   "feature_angle_degrees, boundary, new_layer");
+        check_names_are_labels(par, "subdivision");
+        check(par.getInt("levels") == 1 && par.getBool("new_layer") &&
+                  !par.getBool("recover_faces_with_holes") &&
+                  par.getFloat("feature_angle_degrees") == 0.f,
               "defaults: 1 level, new layer, no recovery, no feature angle");
     }
     // New layer: the cube stays, a new current layer holds 26 vertices and 24 quads.
@@ -298,7 +329,7 @@ static void test_filter(Harness &h) {
         MeshModel *cube = md.addNewMesh("", "cube");
         fill_cube(*cube);
         RichParameterList par = h.params(md);
-        par.setValue("newLayer", BoolValue(false));
+        par.setValue("new_layer", BoolValue(false));
         par.setValue("levels", IntValue(2));
         const bool ok = h.apply(md, par);
         check(ok && md.size() == 1 && cube->cm.vn == 98 && cube->cm.fn == 192 &&
@@ -318,7 +349,7 @@ static void test_filter(Harness &h) {
         {"levels 0", fill_cube, [](RichParameterList &p) { p.setValue("levels", IntValue(0)); },
          "levels is 0"},
         {"feature angle 200", fill_cube,
-         [](RichParameterList &p) { p.setValue("featureAngle", FloatValue(200.f)); }, "angle"},
+         [](RichParameterList &p) { p.setValue("feature_angle_degrees", FloatValue(200.f)); }, "angle"},
         {"repeated vertex in a face", fill_repeated_vertex, [](RichParameterList &) {}, "face 3"},
         {"NaN coordinate", fill_nan, [](RichParameterList &) {}, "vertex 3"},
         {"empty layer", [](MeshModel &) {}, [](RichParameterList &) {}, "no faces"},
@@ -731,21 +762,25 @@ static void test_cut(Harness &h) {
         MeshDocument md;
         fill_grid(*md.addNewMesh("", "grid"), 4);
         RichParameterList par = h.params(md);
-        const char *names[] = {"shot", "viewXml", "stroke", "mode", "openCut", "newLayer"};
+        const char *names[] = {"view",         "view_as_text", "stroke",
+                               "faces_to_cut", "open_the_cut", "new_layer"};
         bool all = par.size() == 6;
         for (const char *n : names) all = all && par.hasParameter(n);
-        check(all, "cut: parameters shot, viewXml, stroke, mode, openCut, newLayer");
-        check(par.at(0).name() == "shot",
+        check(all, "cut: parameters view, view_as_text, stroke, faces_to_cut, open_the_cut, "
+                   "new_layer");
+        check_names_are_labels(par, "cut");
+        check(par.at(0).name() == "view",
               "cut: the shot is the first parameter (so meshlabserver scripts may omit it)");
-        check(!par.getShotf("shot").IsValid() && par.getString("stroke").isEmpty() &&
-                  par.getEnum("mode") == 0 && !par.getBool("openCut") && par.getBool("newLayer"),
+        check(!par.getShotf("view").IsValid() && par.getString("stroke").isEmpty() &&
+                  par.getEnum("faces_to_cut") == 0 && !par.getBool("open_the_cut") &&
+                  par.getBool("new_layer"),
               "cut: defaults without a 3D view: no shot, no stroke, visible only, not opened, "
               "new layer");
         // With a (stand-in) 3D view open, the shot defaults to its view.
         GLArea area;
         area.shot = top_shot(4, false);
         RichParameterList with_view = h.params(md);
-        check(same_shot(with_view.getShotf("shot"), area.shot),
+        check(same_shot(with_view.getShotf("view"), area.shot),
               "cut: with a 3D view, the shot defaults to the current view (asked through "
               "sendViewerShot/transmitShot)");
     }
@@ -795,13 +830,13 @@ static void test_cut(Harness &h) {
         const std::string stroke = stroke_text(shot, stroke_world, &pixels);
         RichParameterList par = h.params(md);
         if (g.use_xml)
-            par.setValue("viewXml", StringValue(QString::fromStdString(xml_of(shot))));
+            par.setValue("view_as_text", StringValue(QString::fromStdString(xml_of(shot))));
         else
-            par.setValue("shot", ShotfValue(shot));
+            par.setValue("view", ShotfValue(shot));
         par.setValue("stroke", StringValue(QString::fromStdString(stroke)));
-        par.setValue("mode", EnumValue(g.through_all ? 1 : 0));
-        par.setValue("openCut", BoolValue(g.open));
-        par.setValue("newLayer", BoolValue(!g.in_place));
+        par.setValue("faces_to_cut", EnumValue(g.through_all ? 1 : 0));
+        par.setValue("open_the_cut", BoolValue(g.open));
+        par.setValue("new_layer", BoolValue(!g.in_place));
         h.log.Clear();
         const bool ok = h.apply(md, par);
         check(ok, what + ": the filter succeeds" +
@@ -912,7 +947,7 @@ static void test_cut(Harness &h) {
         const Snapshot before = snapshot(*m);
         const Shotm shot = top_shot(n, true);
         RichParameterList par = h.params(md);
-        par.setValue("shot", ShotfValue(shot));
+        par.setValue("view", ShotfValue(shot));
         par.setValue("stroke", StringValue(QString::fromStdString(
                                    stroke_text(shot, {{-2, -2, 0}, {-1, -3, 0}, {-0.5, -4, 0}}))));
         h.log.Clear();
@@ -947,16 +982,17 @@ static void test_cut(Harness &h) {
          "crosses itself"},
         {"odd number count", "100 100 200", nothing, grid, "odd count"},
         {"no view", wave_text,
-         [](RichParameterList &p) { p.setValue("shot", ShotfValue(Shotm())); }, grid,
+         [](RichParameterList &p) { p.setValue("view", ShotfValue(Shotm())); }, grid,
          "no viewport"},
         {"bad view text", wave_text,
-         [](RichParameterList &p) { p.setValue("viewXml", StringValue("<VCGCamera/>")); }, grid,
+         [](RichParameterList &p) { p.setValue("view_as_text", StringValue("<VCGCamera/>")); }, grid,
          "TranslationVector"},
         {"lens distortion", wave_text,
-         [distorted](RichParameterList &p) { p.setValue("shot", ShotfValue(distorted)); }, grid,
+         [distorted](RichParameterList &p) { p.setValue("view", ShotfValue(distorted)); }, grid,
          "lens distortion"},
-        {"mode 7", wave_text, [](RichParameterList &p) { p.setValue("mode", EnumValue(7)); }, grid,
-         "mode"},
+        {"faces to cut 7", wave_text,
+         [](RichParameterList &p) { p.setValue("faces_to_cut", EnumValue(7)); }, grid,
+         "options->mode is 7"},
         {"NaN vertex", wave_text, nothing,
          [n](MeshModel &m) {
              fill_grid(m, n);
@@ -982,7 +1018,7 @@ static void test_cut(Harness &h) {
         check_refused(
             h, std::string("cut, ") + b.what, b.fill,
             [&](RichParameterList &p) {
-                p.setValue("shot", ShotfValue(shot));
+                p.setValue("view", ShotfValue(shot));
                 p.setValue("stroke", StringValue(QString::fromStdString(b.stroke)));
                 b.set(p);
             },

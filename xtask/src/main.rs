@@ -28,7 +28,8 @@ tasks:
   addon           build the Blender add-on zip (target/addon/katachi-<version>.zip)
   blender-test    test the add-on headless in Blender 3.4 and bpy 5.0 [--only 3.4|5.0] [-k NAME]
   blender-screenshot  render the add-on's redo panel under Xvfb into docs/images/
-  meshlab-plugin  build the MeshLab 2020.09 filter plugin (apt-get source meshlab); --test: test it with meshlabserver
+  meshlab-plugin  build the MeshLab plugin for 2020.09 and 2025.07 [--only 2020.09|2025.07];
+                  --test: test it in meshlabserver 2020.09 and pymeshlab 2025.7 [-k NAME]
 ";
 
 fn main() -> ExitCode {

@@ -54,7 +54,7 @@ pub fn run(args: &[&str]) -> Result<(), String> {
             Box::new(|| crate::install::test(&[])),
         ));
         steps.push((
-            "MeshLab plugin (meshlabserver under xvfb-run)",
+            "MeshLab plugin (2020.09 through meshlabserver under xvfb-run, 2025.07 in pymeshlab)",
             Box::new(crate::meshlab::test),
         ));
     }

@@ -23,7 +23,7 @@ import subprocess
 import sys
 import traceback
 
-from katachi_mesh import Mesh
+from katachi_mesh import Mesh  # tests/python: katachi's reader and writer (C ABI)
 
 SUBDIVIDE = "katachi: Solid-aware subdivision"
 CUT = "katachi: Cut by polyline"

@@ -17,7 +17,8 @@ import argparse
 import os
 import sys
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path[:0] = [HERE, os.path.join(os.path.dirname(HERE), "python")]
 
 import numpy as np  # noqa: E402  (pymeshlab's own dependency)
 import pymeshlab  # noqa: E402
@@ -52,10 +53,8 @@ def layer_state(ms):
     """Everything observable about the MeshSet: its layers, which is current, and each
     layer's vertices (bit patterns, so NaN equals itself), faces and selections."""
     state = [ms.mesh_number(), ms.current_mesh_id()]
-    for i in range(ms.mesh_number()):
-        m = ms.mesh(i) if hasattr(ms, "mesh") else None
-        if m is None:
-            continue
+    for i in range(ms.mesh_number()):  # ids 0..n-1: the tests delete no layer
+        m = ms.mesh(i)
         state.append((m.vertex_number(), m.face_number(),
                       m.vertex_matrix().tobytes(), m.face_matrix().tobytes(),
                       m.vertex_selection_array().tobytes(), m.face_selection_array().tobytes()))
@@ -96,8 +95,6 @@ def main():
 
     def parameters():
         # print_filter_parameter_list prints name : type = default per parameter.
-        import io
-        import contextlib
         expected = {
             SUBDIVIDE: ["levels", "faces_with_holes", "recover_faces_with_holes",
                         "feature_angle_degrees", "boundary", "new_layer"],
@@ -135,16 +132,76 @@ def main():
     for name, path, opts in cases.subdivision_cases(models, work, kat):
         run.case(name, lambda name=name, path=path, opts=opts:
                  subdivision(run, args, kat, name, path, opts))
-    for name, mesh, opts, message in cases.BAD_SUBDIVISIONS:
+    tet = cases.BAD_SUBDIVISIONS[-1][1]
+    for name, mesh, opts, message in cases.BAD_SUBDIVISIONS + [
+            # The harness's other bad subdivisions (plugin_harness.cpp, 2020.09).
+            ("levels_0", tet, {"levels": 0}, "levels is 0"),
+            ("feature_angle_200", tet, {"feature_angle": 200.0},
+             "option feature angle: 200 degrees")]:
         run.case(name, lambda name=name, mesh=mesh, opts=opts, message=message:
                  bad_subdivision(run, args, name, mesh, opts, message))
+
+    def empty_layer():
+        # The plugin declares that its filters need faces (MM_FACENUMBER): pymeshlab refuses
+        # a layer without any before the filter runs, as MeshLab greys the menu entry out.
+        ms = new_meshset()
+        ms.add_mesh(pymeshlab.Mesh(np.array(tet[0], dtype=np.float64)), "points")
+        for f in (SUBDIVIDE, CUT):
+            refused(run, f"empty_layer {f}", ms, lambda f=f: ms.apply_filter(f),
+                    "does not have Any Faces", by="pymeshlab")
+    run.case("empty_layer", empty_layer)
     cut_cases, bad_cuts = cases.cut_cases(models, work, kat)
     for case in cut_cases:
         run.case(case.name, lambda case=case: cut(run, args, kat, case))
     for case, no_view, message in bad_cuts:
         run.case(case.name, lambda case=case, no_view=no_view, message=message:
                  bad_cut(run, case, no_view, message))
+    # The harness's other bad cuts (plugin_harness.cpp runs them in 2020.09), here in 2025.07.
+    grid_case = bad_cuts[1][0]
+    for name, change, mesh, message in more_bad_cuts(grid_case):
+        run.case(name, lambda name=name, change=change, mesh=mesh, message=message:
+                 refused_cut(run, name, grid_case, change, mesh, message))
     run.finish()
+
+
+def more_bad_cuts(case):
+    """(name, parameter changes, mesh or None for the grid, katachi's message)."""
+    n = 10
+    g = cases.grid(n)
+    nan_vertex = [list(p) for p in g.positions]
+    nan_vertex[3][2] = float("nan")
+    # A fin on the edge (2, 2)-(3, 2), which the stroke crosses: three faces share it.
+    fin = (g.positions + [(2.5, 2.0, 1.0)],
+           g.faces + [[2 * (n + 1) + 2, 2 * (n + 1) + 3, len(g.positions)]])
+    xml = case.camera.xml()
+    return [
+        ("cut_one_point", {"stroke": "100 100"}, None, "the stroke has 1 point"),
+        ("cut_empty_stroke", {"stroke": ""}, None, "the stroke has 0 point"),
+        ("cut_nan_in_stroke", {"stroke": "100 100; nan 200; 300 300"}, None,
+         "stroke point 1"),
+        ("cut_odd_count", {"stroke": "100 100 200"}, None, "odd count"),
+        ("cut_bad_view_text", {"view_as_text": "<VCGCamera/>"}, None, "TranslationVector"),
+        ("cut_lens_distortion",  # distortion counts for a perspective camera
+         {"view_as_text": xml.replace('LensDistortion="0 0"', 'LensDistortion="0.01 0"')
+          .replace('CameraType="1"', 'CameraType="0"')}, None, "lens distortion"),
+        ("cut_camera_type_7",
+         {"view_as_text": xml.replace('CameraType="1"', 'CameraType="7"')}, None,
+         "CameraType is 7"),
+        ("cut_nan_vertex", {}, (nan_vertex, g.faces), "vertex 3"),
+        # The top view has 50 pixels a unit, (5, 5) at the centre: x = 175 is X = 2.5.
+        ("cut_non_manifold_edge", {"stroke": "175 100; 176 200"}, fin, "is non-manifold"),
+    ]
+
+
+def refused_cut(run, name, case, change, mesh, message):
+    ms = new_meshset()
+    if mesh is None:
+        ms.load_new_mesh(case.input)
+    else:
+        ms.add_mesh(pymeshlab.Mesh(np.array(mesh[0], dtype=np.float64),
+                                   np.array(mesh[1], dtype=np.int32)), name)
+    params = dict(case.params(), **change)
+    refused(run, name, ms, lambda: ms.apply_filter(CUT, **params), message)
 
 
 def subdivision(run, args, kat, name, path, opts):
@@ -176,9 +233,9 @@ def subdivision(run, args, kat, name, path, opts):
         run.check(False, f"{name}: pymeshlab's result differs from the CLI's: {e}")
 
 
-def refused(run, name, ms, apply, message):
-    """`apply()` must raise pymeshlab's exception with katachi's `message`, and leave the
-    MeshSet as it was."""
+def refused(run, name, ms, apply, message, by="katachi"):
+    """`apply()` must raise pymeshlab's exception with katachi's `message` (or, with
+    `by="pymeshlab"`, pymeshlab's own), and leave the MeshSet as it was."""
     before = layer_state(ms)
     try:
         apply()
@@ -186,8 +243,8 @@ def refused(run, name, ms, apply, message):
         return
     except pymeshlab.PyMeshLabException as e:
         text = str(e)
-        run.check(message in text and "katachi" in text,
-                  f"{name}: refused with katachi's message `{message}` ({text!r})")
+        run.check(message in text and (by != "katachi" or "Details: katachi" in text),
+                  f"{name}: refused with {by}'s message `{message}` ({text!r})")
     run.check(layer_state(ms) == before, f"{name}: the layers are unchanged")
 
 

@@ -1,8 +1,9 @@
-"""katachi's own mesh reader and writer for the MeshLab tests, through its C ABI.
+"""katachi's own mesh reader and writer for the Python test programs, through its C ABI.
 
-The tests read every mesh (MeshLab's output files, the CLI's) with katachi's readers
-(`katachi_mesh_read`) and write the inputs they make with katachi's writer
-(`katachi_mesh_write`), over ctypes on libkatachi.so: no parser of their own.
+The MeshLab tests (tests/meshlab) and the installed library's tests (tests/c/installed) read
+every mesh with katachi's reader (`katachi_mesh_read`) and write the inputs they make with
+katachi's writer (`katachi_mesh_write`), over ctypes on a libkatachi.so (the build's, or the
+installed one): no parser of their own.
 
 License: MIT OR Apache-2.0.
 """

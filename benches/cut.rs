@@ -29,7 +29,7 @@ fn meshes() -> Vec<(String, PolyMesh)> {
     let mut v: Vec<(String, PolyMesh)> = [(71u32, "10k"), (224, "100k"), (707, "1M")]
         .iter()
         .map(|&(n, name)| {
-            let m = triangulate_quads(&shapes::torus(n, n, 2.0, 0.7));
+            let m = triangulate_quads(&shapes::torus(n, n, 2.0, 0.7).unwrap());
             (format!("torus {name} ({} tris)", m.face_count()), m)
         })
         .collect();

@@ -15,7 +15,7 @@ fn read_ply(c: &mut Criterion) {
     let dir = std::env::temp_dir().join(format!("katachi-bench-io-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let path: PathBuf = dir.join("torus-1m.ply");
-    let mesh = shapes::torus(1000, 1000, 2.0, 0.5);
+    let mesh = shapes::torus(1000, 1000, 2.0, 0.5).unwrap();
     io::write_with(
         &path,
         &mesh,

@@ -5,7 +5,7 @@ use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use katachi::mesh::{inspect, shapes};
 
 fn connectivity(c: &mut Criterion) {
-    let mesh = shapes::torus(1000, 1000, 2.0, 0.5);
+    let mesh = shapes::torus(1000, 1000, 2.0, 0.5).unwrap();
     let halfedges = mesh.connectivity().unwrap().halfedge_count();
     let mut g = c.benchmark_group("connectivity");
     g.sample_size(20);

@@ -25,7 +25,7 @@ mod cut_meshes;
 use cut_meshes::{icosphere, perturbed_grid, tri_grid, triangulate_quads, view_for};
 
 fn tri_torus(n: u32) -> PolyMesh {
-    triangulate_quads(&shapes::torus(n, n, 2.0, 0.7))
+    triangulate_quads(&shapes::torus(n, n, 2.0, 0.7).unwrap())
 }
 
 fn main() {

@@ -28,7 +28,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let arg = |i: usize, default: &str| args.get(i).cloned().unwrap_or(default.to_string());
     let mesh = match arg(0, "torus").as_str() {
-        "torus" => triangulate_quads(&shapes::torus(707, 707, 2.0, 0.7)),
+        "torus" => triangulate_quads(&shapes::torus(707, 707, 2.0, 0.7).unwrap()),
         "spot" => spot_l4()?,
         other => return Err(format!("unknown mesh {other:?} (torus or spot)").into()),
     };

@@ -1006,6 +1006,21 @@ KatachiStatus katachi_mesh_set_all_vertex_sharpness(struct KatachiMesh *mesh,
                                                     size_t count);
 
 /**
+ * A copy of `mesh` whose faces with holes are cut along bridge edges into simple polygons
+ * (for hosts that store no faces with holes), in `*out`; `face_origin`, when not NULL, gets
+ * the source face of each new face (`capacity` values, at least the new face count, which
+ * `katachi_mesh_counts` on the result gives; pass NULL to skip).
+ *
+ * # Safety
+ * `mesh` NULL or a live handle; `out` NULL or writable; `face_origin` NULL or writable for
+ * `capacity` values.
+ */
+KatachiStatus katachi_mesh_split_faces_with_holes(const struct KatachiMesh *mesh,
+                                                  struct KatachiMesh **out,
+                                                  uint32_t *face_origin,
+                                                  size_t capacity);
+
+/**
  * A `KatachiMeshInfo` with `struct_size = sizeof(KatachiMeshInfo)`, counts 0, `genus` −1 and
  * flags false, ready to pass to `katachi_mesh_inspect`.
  */
@@ -1238,21 +1253,6 @@ KatachiStatus katachi_merge_coplanar_regions(const struct KatachiMesh *mesh,
 KatachiStatus katachi_tag_feature_edges(const struct KatachiMesh *mesh,
                                         double angle_degrees,
                                         struct KatachiMesh **out);
-
-/**
- * A copy of `mesh` whose faces with holes are cut along bridge edges into simple polygons
- * (for hosts that store no faces with holes), in `*out`; `face_origin`, when not NULL, gets
- * the source face of each new face (`capacity` values, at least the new face count, which
- * `katachi_mesh_counts` on the result gives; pass NULL to skip).
- *
- * # Safety
- * `mesh` NULL or a live handle; `out` NULL or writable; `face_origin` NULL or writable for
- * `capacity` values.
- */
-KatachiStatus katachi_mesh_split_faces_with_holes(const struct KatachiMesh *mesh,
-                                                  struct KatachiMesh **out,
-                                                  uint32_t *face_origin,
-                                                  size_t capacity);
 
 /**
  * A `KatachiCutOptions` holding the defaults (visible-only, not opened, no limit, the

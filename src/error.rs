@@ -53,6 +53,16 @@ pub enum Error {
     /// A position has a NaN or infinite coordinate.
     #[error("vertex {vertex}: coordinate {axis} is {value}, not a finite number")]
     NonFiniteCoordinate { vertex: u32, axis: Axis, value: f64 },
+    /// An operation's result has a coordinate f64 cannot hold: the input's coordinates are too
+    /// large for the operation's arithmetic (a sum of them overflows). `vertex` is the input
+    /// vertex with the largest coordinate magnitude, `axis` and `value` that coordinate.
+    #[error("{operation} overflows: the result has a coordinate that is not a finite number; the input's vertex {vertex} has {axis} = {value:e}, too large for it (scale the model down)")]
+    CoordinateOverflow {
+        operation: &'static str,
+        vertex: u32,
+        axis: Axis,
+        value: f64,
+    },
     /// A loop has fewer than three distinct vertices.
     #[error("face {face}, loop {loop_index}: a loop needs at least 3 distinct vertices, this one has {distinct}")]
     DegenerateLoop {

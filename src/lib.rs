@@ -10,7 +10,7 @@
 //!
 //! ```
 //! use katachi::{mesh::shapes, PolyMesh};
-//! let cube: PolyMesh = shapes::cube(1.0);
+//! let cube: PolyMesh = shapes::cube(1.0).unwrap();
 //! let topo = cube.connectivity().unwrap();
 //! assert_eq!(topo.edge_count(), 12);
 //! assert_eq!(topo.euler_characteristic(&cube), 2);

@@ -144,7 +144,11 @@ fn subdivide_command() {
     let d = tmp("subdivide");
     // A boolean's output (triangles) recovered as faces with holes, both methods.
     let soup = d.join("plate.obj");
-    katachi::io::write(&soup, &katachi::mesh::shapes::boolean_plate(4.0, 2.0, 1.0)).unwrap();
+    katachi::io::write(
+        &soup,
+        &katachi::mesh::shapes::boolean_plate(4.0, 2.0, 1.0).unwrap(),
+    )
+    .unwrap();
     for method in ["smooth", "sharp"] {
         let out = d.join(format!("plate_{method}.obj"));
         let o = katachi(&[

@@ -631,7 +631,7 @@ fn check_moves(input: &PolyMesh, v: &View, out: &CutOutput, o: &CutOptions) {
 
 #[test]
 fn n_gons_are_triangulated_and_faces_map_back() {
-    let quads = shapes::grid(6, 6);
+    let quads = shapes::grid(6, 6).unwrap();
     let v = top_view(-0.5, 6.5, -0.5, 6.5, 0.02);
     let out = cut(
         &quads,
@@ -679,7 +679,7 @@ fn n_gons_are_triangulated_and_faces_map_back() {
 
 #[test]
 fn faces_with_holes_are_bridged_first() {
-    let plate = shapes::plate_with_hole(4.0, 2.0, 0.5);
+    let plate = shapes::plate_with_hole(4.0, 2.0, 0.5).unwrap();
     let v = top_view(-2.5, 2.5, -2.5, 2.5, 0.01);
     let out = cut(
         &plate,
@@ -1557,7 +1557,7 @@ fn no_snap(mode: CutMode) -> CutOptions {
 fn corner_data_is_linear_inside_each_source_face() {
     // Quads (triangulated first), data per corner that jumps between faces (a UV seam on
     // every edge): (x, y) + 10 · face.
-    let g = shapes::grid(8, 8);
+    let g = shapes::grid(8, 8).unwrap();
     let v = top_view(-0.5, 8.5, -0.5, 8.5, 0.02);
     let gr = &g;
     let values: Vec<f64> = g

@@ -3,10 +3,10 @@
 
 use std::collections::{BTreeMap, BTreeSet};
 
-use katachi::mesh::shapes;
-use katachi::subdivide::holes::{
+use katachi::mesh::holes::{
     bridge_face, validate_faces_with_holes, BridgeChoice, BridgeFailure, Bridged,
 };
+use katachi::mesh::shapes;
 use katachi::{DVec3, FaceId, PolyMesh, VertexId};
 use proptest::prelude::*;
 
@@ -245,7 +245,7 @@ fn octagon_in_square_bridges_the_corners_and_skips_the_arc_middles() {
 
 #[test]
 fn plate_with_hole_faces_bridge_into_trapezoids() {
-    let plate = shapes::plate_with_hole(4.0, 2.0, 1.0);
+    let plate = shapes::plate_with_hole(4.0, 2.0, 1.0).unwrap();
     validate_faces_with_holes(&plate).unwrap();
     for f in [FaceId(0), FaceId(1)] {
         let b = bridge_face(&plate, f).unwrap();
@@ -607,8 +607,8 @@ fn errors_name_the_face() {
 
 #[test]
 fn valid_plate_passes() {
-    validate_faces_with_holes(&shapes::plate_with_hole(3.0, 1.0, 0.5)).unwrap();
-    validate_faces_with_holes(&shapes::cube(1.0)).unwrap();
+    validate_faces_with_holes(&shapes::plate_with_hole(3.0, 1.0, 0.5).unwrap()).unwrap();
+    validate_faces_with_holes(&shapes::cube(1.0).unwrap()).unwrap();
 }
 
 #[test]
@@ -708,8 +708,8 @@ proptest! {
 
 #[test]
 fn split_faces_with_holes_keeps_geometry_and_adds_bridges() {
-    use katachi::subdivide::holes::split_faces_with_holes;
-    let plate = katachi::mesh::shapes::plate_with_hole(4.0, 2.0, 1.0);
+    use katachi::mesh::holes::split_faces_with_holes;
+    let plate = katachi::mesh::shapes::plate_with_hole(4.0, 2.0, 1.0).unwrap();
     let (split, origin) = split_faces_with_holes(&plate).unwrap();
     assert!(split.faces().all(|f| split.face_loop_count(f) == 1));
     assert_eq!(

@@ -129,7 +129,7 @@ fn unknown_extension_is_refused_for_read_and_write() {
     let e = io::read(&path).unwrap_err();
     assert!(matches!(e, Error::UnknownFormat { .. }), "{e:?}");
     assert!(e.to_string().contains("mesh.stl"), "{e}");
-    let e = io::write(&dir.join("out.xyz"), &shapes::cube(1.0)).unwrap_err();
+    let e = io::write(&dir.join("out.xyz"), &shapes::cube(1.0).unwrap()).unwrap_err();
     assert!(matches!(e, Error::UnknownFormat { .. }), "{e:?}");
     assert!(!dir.join("out.xyz").exists());
 }
@@ -149,7 +149,7 @@ fn missing_file_is_an_io_error_naming_the_path() {
     }
     let e = io::write(
         Path::new("/nonexistent/katachi/out.ply"),
-        &shapes::cube(1.0),
+        &shapes::cube(1.0).unwrap(),
     )
     .unwrap_err();
     assert!(
@@ -161,7 +161,7 @@ fn missing_file_is_an_io_error_naming_the_path() {
 #[test]
 fn files_round_trip_through_disk_in_every_format() {
     let dir = temp_dir("disk");
-    let mesh = shapes::ngon_prism(7, 1.3, 0.7);
+    let mesh = shapes::ngon_prism(7, 1.3, 0.7).unwrap();
     for ext in ["obj", "OFF", "ply"] {
         let path = dir.join(format!("prism.{ext}"));
         io::write(&path, &mesh).unwrap();
@@ -189,10 +189,10 @@ fn files_round_trip_through_disk_in_every_format() {
 #[test]
 fn generated_shapes_round_trip_bit_exact_in_every_format() {
     let shapes = [
-        ("cube", shapes::cube(2.0)),
-        ("prism", shapes::ngon_prism(9, 1.0, 2.5)),
-        ("torus", shapes::torus(12, 7, 2.0, 0.5)),
-        ("grid", shapes::grid(5, 3)),
+        ("cube", shapes::cube(2.0).unwrap()),
+        ("prism", shapes::ngon_prism(9, 1.0, 2.5).unwrap()),
+        ("torus", shapes::torus(12, 7, 2.0, 0.5).unwrap()),
+        ("grid", shapes::grid(5, 3).unwrap()),
         ("awkward", awkward_mesh()),
         ("empty", PolyMesh::new()),
     ];
@@ -226,7 +226,7 @@ fn big_faces_use_a_wide_list_count_in_ply() {
 
 #[test]
 fn obj_keeps_edge_and_vertex_sharpness() {
-    let mut mesh = shapes::cube(1.0);
+    let mut mesh = shapes::cube(1.0).unwrap();
     mesh.set_edge_sharpnesses([
         (VertexId(0), VertexId(2), 10.0),
         (VertexId(3), VertexId(2), 0.1),
@@ -252,7 +252,7 @@ fn obj_keeps_edge_and_vertex_sharpness() {
 #[test]
 fn faces_with_holes_are_refused_naming_the_face_and_format() {
     let dir = temp_dir("holes");
-    let plate = shapes::plate_with_hole(4.0, 2.0, 1.0);
+    let plate = shapes::plate_with_hole(4.0, 2.0, 1.0).unwrap();
     for (format, enc) in ALL_WRITERS {
         let mut buf = Vec::new();
         let e = io::write_to(
@@ -850,7 +850,7 @@ fn off_errors_name_the_line() {
 // never panic
 
 fn valid_files() -> Vec<(Format, Vec<u8>)> {
-    let mut mesh = shapes::ngon_prism(5, 1.0, 1.0);
+    let mut mesh = shapes::ngon_prism(5, 1.0, 1.0).unwrap();
     mesh.set_edge_sharpness(VertexId(0), VertexId(1), 2.0)
         .unwrap();
     mesh.set_vertex_sharpness(VertexId(3), 1.0).unwrap();

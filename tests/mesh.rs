@@ -1,4 +1,5 @@
-//! Generated shapes with exact expected counts (mesh module).
+//! Generated shapes with exact expected counts, and their refusal of bad parameters (mesh
+//! module); the empty mesh.
 
 use katachi::mesh::{inspect, shapes, Topology, TopologyOptions};
 use katachi::{PolyMesh, VertexId};
@@ -43,7 +44,7 @@ fn check(mesh: &PolyMesh, x: Expect) {
 #[test]
 fn cube_counts() {
     check(
-        &shapes::cube(2.0),
+        &shapes::cube(2.0).unwrap(),
         Expect {
             v: 8,
             f: 6,
@@ -53,7 +54,7 @@ fn cube_counts() {
             genus: Some(0),
         },
     );
-    let c = shapes::cube(2.0);
+    let c = shapes::cube(2.0).unwrap();
     let t = c.connectivity().unwrap();
     for v in c.vertices() {
         assert_eq!(t.valence(v), 3);
@@ -65,7 +66,7 @@ fn cube_counts() {
 fn prism_counts() {
     for n in [3, 5, 8, 17] {
         check(
-            &shapes::ngon_prism(n, 1.0, 1.0),
+            &shapes::ngon_prism(n, 1.0, 1.0).unwrap(),
             Expect {
                 v: 2 * n,
                 f: n + 2,
@@ -81,7 +82,7 @@ fn prism_counts() {
 #[test]
 fn torus_counts() {
     check(
-        &shapes::torus(12, 8, 2.0, 0.5),
+        &shapes::torus(12, 8, 2.0, 0.5).unwrap(),
         Expect {
             v: 96,
             f: 96,
@@ -91,14 +92,14 @@ fn torus_counts() {
             genus: Some(1),
         },
     );
-    let t = shapes::torus(12, 8, 2.0, 0.5);
+    let t = shapes::torus(12, 8, 2.0, 0.5).unwrap();
     let topo = t.connectivity().unwrap();
     assert!(t.vertices().all(|v| topo.valence(v) == 4));
 }
 
 #[test]
 fn open_grid_counts() {
-    let g = shapes::grid(4, 3);
+    let g = shapes::grid(4, 3).unwrap();
     check(
         &g,
         Expect {
@@ -121,7 +122,7 @@ fn open_grid_counts() {
 
 #[test]
 fn plate_with_hole_counts() {
-    let p = shapes::plate_with_hole(4.0, 2.0, 1.0);
+    let p = shapes::plate_with_hole(4.0, 2.0, 1.0).unwrap();
     check(
         &p,
         Expect {
@@ -135,6 +136,104 @@ fn plate_with_hole_counts() {
     );
     assert_eq!(p.face_loop_count(katachi::FaceId(0)), 2);
     assert_eq!(inspect(&p).unwrap().faces_with_holes, 2);
+}
+
+#[test]
+fn the_default_mesh_is_the_valid_empty_mesh() {
+    let m = PolyMesh::default();
+    assert_eq!(m, PolyMesh::new());
+    assert_eq!(
+        (
+            m.vertex_count(),
+            m.face_count(),
+            m.loop_count(),
+            m.corner_count()
+        ),
+        (0, 0, 0, 0)
+    );
+    assert!(m.is_empty());
+    assert_eq!(m.faces().count(), 0);
+    assert_eq!(m.bounding_box(), None);
+    let rebuilt = PolyMesh::from_flat(&[], &[], &[], &[]).unwrap();
+    assert_eq!(m, rebuilt);
+    // An operation refuses it with a typed error, not a panic.
+    let e = katachi::subdivide::catmull_clark(&m, &Default::default()).unwrap_err();
+    assert!(matches!(e, katachi::Error::EmptyMesh { .. }), "{e}");
+}
+
+#[test]
+fn shapes_refuse_bad_parameters_naming_them() {
+    use katachi::Error;
+    let cases: Vec<(&str, Result<PolyMesh, Error>, &str)> = vec![
+        ("cube(0)", shapes::cube(0.0), "size is 0"),
+        ("cube(NaN)", shapes::cube(f64::NAN), "size is NaN"),
+        ("cube(-1)", shapes::cube(-1.0), "size is -1"),
+        ("prism n = 2", shapes::ngon_prism(2, 1.0, 1.0), "n is 2"),
+        (
+            "prism huge n",
+            shapes::ngon_prism(u32::MAX, 1.0, 1.0),
+            "32-bit",
+        ),
+        (
+            "prism radius inf",
+            shapes::ngon_prism(5, f64::INFINITY, 1.0),
+            "radius is inf",
+        ),
+        (
+            "prism height 0",
+            shapes::ngon_prism(5, 1.0, 0.0),
+            "height is 0",
+        ),
+        ("torus m = 2", shapes::torus(2, 8, 2.0, 0.5), "m is 2"),
+        ("torus n = 0", shapes::torus(8, 0, 2.0, 0.5), "n is 0"),
+        (
+            "torus m·n overflows",
+            shapes::torus(70_000, 70_000, 2.0, 0.5),
+            "32-bit",
+        ),
+        (
+            "torus major ≤ minor",
+            shapes::torus(8, 8, 0.5, 0.5),
+            "major is 0.5",
+        ),
+        (
+            "torus minor NaN",
+            shapes::torus(8, 8, 2.0, f64::NAN),
+            "minor is NaN",
+        ),
+        ("grid 0 × 3", shapes::grid(0, 3), "m is 0"),
+        ("grid overflow", shapes::grid(u32::MAX, 1), "32-bit"),
+        (
+            "plate hole ≥ size",
+            shapes::plate_with_hole(1.0, 1.0, 0.2),
+            "hole is 1",
+        ),
+        (
+            "plate thickness 0",
+            shapes::plate_with_hole(2.0, 1.0, 0.0),
+            "thickness is 0",
+        ),
+        (
+            "bridged hole NaN",
+            shapes::bridged_plate(2.0, f64::NAN, 0.5),
+            "hole is NaN",
+        ),
+        (
+            "boolean size inf",
+            shapes::boolean_plate(f64::INFINITY, 1.0, 0.5),
+            "size is inf",
+        ),
+    ];
+    for (what, result, needle) in cases {
+        match result {
+            Err(e @ Error::InvalidArgument(_)) => {
+                let m = e.to_string();
+                assert!(m.contains(needle), "{what}: {m:?} does not say {needle:?}");
+            }
+            Err(e) => panic!("{what}: not InvalidArgument: {e:?}"),
+            Ok(_) => panic!("{what}: accepted"),
+        }
+    }
 }
 
 #[test]
@@ -347,7 +446,7 @@ mod props {
 
 #[test]
 fn sharpness_attributes() {
-    let mut c = shapes::cube(1.0);
+    let mut c = shapes::cube(1.0).unwrap();
     let v = |i| VertexId(i);
     c.set_edge_sharpness(v(1), v(0), 2.5).unwrap();
     assert_eq!(c.edge_sharpness(v(0), v(1)), 2.5);

@@ -71,7 +71,7 @@ fn square(r: f64, z: f64) -> [DVec3; 4] {
     [(-r, -r), (r, -r), (r, r), (-r, r)].map(|(x, y)| DVec3::new(x, y, z))
 }
 
-/// The plate of `shapes::plate_with_hole(4, 2, 1)` (same vertex ids 0..16) as a boolean
+/// The plate of `shapes::plate_with_hole(4, 2, 1).unwrap()` (same vertex ids 0..16) as a boolean
 /// would give it: every planar face cut into triangles; the top and bottom annuli are cut
 /// into four trapezoids, each triangulated (`Cut::Triangles`) or fanned around a centre
 /// (`Cut::CentreFan`, adding 8 vertices).
@@ -233,7 +233,7 @@ fn triangulated_plate_with_through_hole_comes_back_as_faces_with_holes() {
     };
     assert_eq!(
         edges(&m.mesh),
-        edges(&shapes::plate_with_hole(4.0, 2.0, 1.0))
+        edges(&shapes::plate_with_hole(4.0, 2.0, 1.0).unwrap())
     );
     // The maps agree with each other.
     for (out, srcs) in m.face_origin.iter().enumerate() {
@@ -483,7 +483,7 @@ fn f32_rounded_rotated_plate_still_merges() {
 
 #[test]
 fn faces_with_different_labels_stay_apart() {
-    let mut grid = shapes::grid(3, 2);
+    let mut grid = shapes::grid(3, 2).unwrap();
     let mut labels = vec![0; 6];
     labels[5] = 7;
     grid.set_face_labels(labels).unwrap();
@@ -505,7 +505,10 @@ fn merging_twice_changes_nothing() {
         assert!(twice.face_origin.iter().all(|o| o.len() == 1));
     }
     // Already-merged shapes: nothing to do.
-    for mesh in [shapes::cube(1.0), shapes::plate_with_hole(4.0, 2.0, 1.0)] {
+    for mesh in [
+        shapes::cube(1.0).unwrap(),
+        shapes::plate_with_hole(4.0, 2.0, 1.0).unwrap(),
+    ] {
         assert_eq!(merge(&mesh).mesh, mesh);
     }
 }
@@ -596,7 +599,7 @@ fn the_input_is_untouched_and_bad_input_is_typed() {
 
 #[test]
 fn isolated_input_vertices_are_kept() {
-    let mut p = shapes::grid(2, 1).positions().to_vec();
+    let mut p = shapes::grid(2, 1).unwrap().positions().to_vec();
     p.push(DVec3::new(9.0, 9.0, 9.0)); // 6, used by no face
     let mesh = PolyMesh::from_polygons(p, [[0, 1, 4, 3], [1, 2, 5, 4]]).unwrap();
     let m = merge(&mesh);
@@ -644,14 +647,14 @@ fn curved_models_merge_nothing_at_a_tiny_tolerance() {
     let tiny = MergeOptions::with_tolerances(1e-9, 1e-12);
     for (name, mesh) in [
         ("trim-star", read_model("trim-star.off")),
-        ("torus", shapes::torus(48, 24, 2.0, 0.5)),
+        ("torus", shapes::torus(48, 24, 2.0, 0.5).unwrap()),
     ] {
         let m = merge_coplanar_regions(&mesh, &tiny).unwrap();
         assert_eq!(m.mesh, mesh, "{name}");
         assert!(m.face_origin.iter().all(|o| o.len() == 1), "{name}");
     }
     // And the default tolerances do not flatten a smooth torus either.
-    let torus = shapes::torus(48, 24, 2.0, 0.5);
+    let torus = shapes::torus(48, 24, 2.0, 0.5).unwrap();
     assert_eq!(merge(&torus).mesh, torus);
 }
 
@@ -715,14 +718,14 @@ fn fandisk_feature_edges_match_an_independent_count() {
 
 #[test]
 fn cube_edges_are_all_features_at_30_degrees() {
-    let cube = shapes::cube(2.0);
+    let cube = shapes::cube(2.0).unwrap();
     assert_eq!(feature_edges(&cube, 30.0).unwrap().len(), 12);
     assert_eq!(feature_edges(&cube, 89.0).unwrap().len(), 12);
     assert_eq!(feature_edges(&cube, 91.0).unwrap().len(), 0);
     let tagged = tag_feature_edges(&cube, 30.0).unwrap();
     assert_eq!(inspect(&tagged).unwrap().sharp_edges, 12);
     // A value above INFINITELY_SHARP stays; a smaller one is raised.
-    let mut cube = shapes::cube(2.0);
+    let mut cube = shapes::cube(2.0).unwrap();
     cube.set_edge_sharpness(VertexId(0), VertexId(1), 12.0)
         .unwrap();
     cube.set_edge_sharpness(VertexId(0), VertexId(2), 0.5)
@@ -737,7 +740,7 @@ fn cube_edges_are_all_features_at_30_degrees() {
 
 #[test]
 fn smooth_torus_has_no_features_at_60_degrees() {
-    let torus = shapes::torus(12, 8, 2.0, 0.5);
+    let torus = shapes::torus(12, 8, 2.0, 0.5).unwrap();
     let smooth = catmull_clark(&torus, &SubdivideOptions::with_levels(2))
         .unwrap()
         .mesh;
@@ -748,7 +751,7 @@ fn smooth_torus_has_no_features_at_60_degrees() {
 #[test]
 fn boundary_edges_are_not_features() {
     // An open box (no lid): the rim is boundary, the 8 other edges fold at 90°.
-    let cube = shapes::cube(2.0);
+    let cube = shapes::cube(2.0).unwrap();
     let faces: Vec<Vec<u32>> = cube
         .faces()
         .filter(|&f| f.0 != 1)
@@ -757,12 +760,14 @@ fn boundary_edges_are_not_features() {
     let open = PolyMesh::from_polygons(cube.positions().to_vec(), faces).unwrap();
     assert_eq!(feature_edges(&open, 30.0).unwrap().len(), 8);
     // A flat grid has none.
-    assert!(feature_edges(&shapes::grid(3, 3), 1.0).unwrap().is_empty());
+    assert!(feature_edges(&shapes::grid(3, 3).unwrap(), 1.0)
+        .unwrap()
+        .is_empty());
 }
 
 #[test]
 fn bad_feature_angle_is_an_invalid_option() {
-    let cube = shapes::cube(1.0);
+    let cube = shapes::cube(1.0).unwrap();
     for deg in [0.0, 180.0, -10.0, 200.0, f64::NAN, f64::INFINITY] {
         assert!(
             matches!(feature_edges(&cube, deg), Err(Error::InvalidOption { .. })),

@@ -11,10 +11,10 @@ fn close(a: DVec3, b: DVec3) -> bool {
 #[test]
 fn counts_follow_v_plus_e_plus_f() {
     for (mesh, name) in [
-        (shapes::cube(2.0), "cube"),
-        (shapes::ngon_prism(7, 1.0, 1.0), "prism"),
-        (shapes::torus(12, 8, 2.0, 0.5), "torus"),
-        (shapes::grid(4, 3), "grid"),
+        (shapes::cube(2.0).unwrap(), "cube"),
+        (shapes::ngon_prism(7, 1.0, 1.0).unwrap(), "prism"),
+        (shapes::torus(12, 8, 2.0, 0.5).unwrap(), "torus"),
+        (shapes::grid(4, 3).unwrap(), "grid"),
     ] {
         let r = inspect(&mesh).unwrap();
         let out = catmull_clark(&mesh, &SubdivideOptions::with_levels(1)).unwrap();
@@ -39,7 +39,7 @@ fn counts_follow_v_plus_e_plus_f() {
 #[test]
 fn cube_level_one_by_hand() {
     // Corner (1,1,1) of the ±1 cube: v/3 + (Σ neighbours + Σ face points)/9 = 5/9 (1,1,1).
-    let out = catmull_clark(&shapes::cube(2.0), &SubdivideOptions::default()).unwrap();
+    let out = catmull_clark(&shapes::cube(2.0).unwrap(), &SubdivideOptions::default()).unwrap();
     let p = out.mesh.position(VertexId(7));
     assert!(close(p, DVec3::splat(5.0 / 9.0)), "{p}");
     // Edge point of edge 0-1 ((-1,-1,-1)-(1,-1,-1)): faces z=-1 and y=-1 → (0,-0.75,-0.75).
@@ -53,7 +53,7 @@ fn cube_level_one_by_hand() {
 
 #[test]
 fn infinitely_sharp_edge_gives_midpoints_and_crease_rule() {
-    let mut cube = shapes::cube(2.0);
+    let mut cube = shapes::cube(2.0).unwrap();
     // Crease around the bottom square 0-1-3-2.
     cube.set_edge_sharpnesses([
         (VertexId(0), VertexId(1), 10.0),
@@ -81,7 +81,7 @@ fn infinitely_sharp_edge_gives_midpoints_and_crease_rule() {
 #[test]
 fn boundary_rules() {
     // Open grid: corner vertex 0 has one face.
-    let g = shapes::grid(2, 2);
+    let g = shapes::grid(2, 2).unwrap();
     let out = catmull_clark(&g, &SubdivideOptions::default()).unwrap();
     // Edge-only: crease rule along the boundary: (v1 + 6 v0 + v3)/8 = (1/8, 1/8, 0).
     assert!(close(
@@ -132,7 +132,7 @@ fn semi_sharp_crease_row() {
 
 #[test]
 fn input_is_untouched_and_errors_are_typed() {
-    let cube = shapes::cube(1.0);
+    let cube = shapes::cube(1.0).unwrap();
     let before = cube.clone();
     let _ = catmull_clark(&cube, &SubdivideOptions::with_levels(2)).unwrap();
     assert_eq!(cube, before);
@@ -152,7 +152,7 @@ impl AllQuads for katachi::PolyMesh {
 #[test]
 fn stencils_and_vertex_data_follow_the_positions() {
     use katachi::subdivide::Refiner;
-    let mut m = shapes::ngon_prism(5, 1.0, 2.0);
+    let mut m = shapes::ngon_prism(5, 1.0, 2.0).unwrap();
     m.set_edge_sharpness(VertexId(0), VertexId(1), 1.5).unwrap();
     for levels in 1..=3 {
         let o = SubdivideOptions::with_levels(levels);
@@ -184,7 +184,7 @@ fn stencils_and_vertex_data_follow_the_positions() {
 
 #[test]
 fn deterministic_bits() {
-    let m = shapes::torus(20, 12, 2.0, 0.5);
+    let m = shapes::torus(20, 12, 2.0, 0.5).unwrap();
     let a = catmull_clark(&m, &SubdivideOptions::with_levels(2)).unwrap();
     let b = catmull_clark(&m, &SubdivideOptions::with_levels(2)).unwrap();
     assert_eq!(a.mesh, b.mesh);
@@ -205,7 +205,7 @@ fn with_holes(method: HoleMethod, levels: u32) -> SubdivideOptions {
 /// The plate's top face (face 0) lies in z = thickness, its bottom (face 1) in z = 0.
 #[test]
 fn method_b_keeps_faces_planar_with_their_holes() {
-    let plate = shapes::plate_with_hole(4.0, 2.0, 1.0);
+    let plate = shapes::plate_with_hole(4.0, 2.0, 1.0).unwrap();
     for levels in 1..=3 {
         let out = catmull_clark(&plate, &with_holes(HoleMethod::Sharp, levels)).unwrap();
         let m = &out.mesh;
@@ -236,7 +236,7 @@ fn method_b_keeps_faces_planar_with_their_holes() {
 /// (crease rule eq. (3) at loop vertices, midpoints at loop edges).
 #[test]
 fn method_b_loops_are_cubic_b_spline_curves() {
-    let plate = shapes::plate_with_hole(4.0, 2.0, 1.0);
+    let plate = shapes::plate_with_hole(4.0, 2.0, 1.0).unwrap();
     let levels = 3;
     let out = catmull_clark(&plate, &with_holes(HoleMethod::Sharp, levels)).unwrap();
     let m = &out.mesh;
@@ -273,8 +273,8 @@ fn method_b_loops_are_cubic_b_spline_curves() {
 /// annuli are split into the four trapezoids.
 #[test]
 fn method_a_square_in_square_equals_the_explicitly_bridged_mesh() {
-    let plate = shapes::plate_with_hole(4.0, 2.0, 1.0);
-    let explicit = shapes::bridged_plate(4.0, 2.0, 1.0);
+    let plate = shapes::plate_with_hole(4.0, 2.0, 1.0).unwrap();
+    let explicit = shapes::bridged_plate(4.0, 2.0, 1.0).unwrap();
     for levels in 1..=3 {
         let a = catmull_clark(&plate, &with_holes(HoleMethod::Smooth, levels)).unwrap();
         assert!(a.report.fell_back_to_sharp.is_empty(), "{:?}", a.report);
@@ -335,8 +335,8 @@ fn method_a_octagon_in_square_uses_four_vertex_face_points() {
 /// with holes, and then subdivides exactly as the plate built with them.
 #[test]
 fn recovered_faces_with_holes_subdivide_like_the_original() {
-    let plate = shapes::plate_with_hole(4.0, 2.0, 1.0);
-    let soup = shapes::boolean_plate(4.0, 2.0, 1.0);
+    let plate = shapes::plate_with_hole(4.0, 2.0, 1.0).unwrap();
+    let soup = shapes::boolean_plate(4.0, 2.0, 1.0).unwrap();
     assert!(soup.faces().all(|f| soup.face_outer(f).len() == 3));
     for method in [HoleMethod::Smooth, HoleMethod::Sharp] {
         let mut o = with_holes(method, 2);
@@ -402,7 +402,7 @@ fn bad_faces_with_holes_are_typed_errors_naming_the_face() {
 /// The same bits whatever the thread count (rayon pools of 1, 2 and 5 threads).
 #[test]
 fn same_bits_whatever_the_thread_count() {
-    let mut m = shapes::torus(40, 24, 2.0, 0.5);
+    let mut m = shapes::torus(40, 24, 2.0, 0.5).unwrap();
     m.set_edge_sharpnesses([
         (VertexId(0), VertexId(1), 1.5),
         (VertexId(1), VertexId(2), 10.0),
@@ -433,13 +433,13 @@ fn same_bits_whatever_the_thread_count() {
 #[test]
 fn face_varying_data_follows_faces_kept_whole() {
     use katachi::subdivide::{FaceVarying, Refiner};
-    let plate = shapes::plate_with_hole(4.0, 2.0, 1.0);
+    let plate = shapes::plate_with_hole(4.0, 2.0, 1.0).unwrap();
     let uv: Vec<[f64; 2]> = plate.positions().iter().map(|p| [p.x, p.y]).collect();
     let indices: Vec<u32> = plate.corners().iter().map(|v| v.0).collect();
     for levels in 1..=2 {
         let refiner = Refiner::new(&plate, &with_holes(HoleMethod::Sharp, levels)).unwrap();
         let positions = refiner.refine_vertex_data(plate.positions()).unwrap();
-        let out = refiner.mesh(positions.clone());
+        let out = refiner.mesh(positions.clone()).unwrap();
         for mode in [
             FaceVarying::Smooth,
             FaceVarying::LinearCornersOnly,
@@ -464,4 +464,48 @@ fn face_varying_data_follows_faces_kept_whole() {
             }
         }
     }
+}
+
+#[test]
+fn coordinates_near_the_f64_limit_are_a_typed_error_not_infinity() {
+    use katachi::subdivide::Refiner;
+    use katachi::Error;
+    // A cube whose vertex 7 sits near f64::MAX: face and edge points sum such coordinates.
+    let mut cube = shapes::cube(2.0).unwrap();
+    let mut p = cube.positions().to_vec();
+    p[7] = DVec3::new(1.0e308, 1.5e308, 1.7e308);
+    p[6] = DVec3::new(-1.0e308, 1.6e308, 1.6e308);
+    cube.set_positions(p).unwrap();
+    for levels in [1, 3] {
+        let e = catmull_clark(&cube, &SubdivideOptions::with_levels(levels)).unwrap_err();
+        match &e {
+            Error::CoordinateOverflow { vertex, value, .. } => {
+                assert_eq!(*vertex, 7, "{e}");
+                assert_eq!(*value, 1.7e308, "{e}");
+            }
+            other => panic!("not CoordinateOverflow: {other:?}"),
+        }
+        assert!(e.to_string().contains("vertex 7"), "{e}");
+        assert_eq!(e.kind(), katachi::ErrorKind::BadInput);
+    }
+    // Large but representable coordinates subdivide to finite positions.
+    let mut big = shapes::cube(2.0).unwrap();
+    big.set_positions(big.positions().iter().map(|&q| q * 1e300).collect())
+        .unwrap();
+    let out = catmull_clark(&big, &SubdivideOptions::with_levels(2)).unwrap();
+    assert!(out.mesh.positions().iter().all(|q| q.is_finite()));
+    // The refiner refuses positions a caller hands it that are not finite or not one per
+    // output vertex.
+    let refiner = Refiner::new(&big, &SubdivideOptions::with_levels(1)).unwrap();
+    let n = refiner.vertex_count() as usize;
+    let mut positions = vec![DVec3::ZERO; n];
+    assert!(matches!(
+        refiner.mesh(positions[1..].to_vec()),
+        Err(Error::AttributeLength { .. })
+    ));
+    positions[5].y = f64::INFINITY;
+    assert!(matches!(
+        refiner.mesh(positions),
+        Err(Error::NonFiniteCoordinate { vertex: 5, .. })
+    ));
 }

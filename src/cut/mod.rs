@@ -49,7 +49,7 @@
 //! use glam::{DMat4, DVec2, DVec3};
 //!
 //! // A 4 × 4 grid of unit quads (triangulated first), seen from above.
-//! let grid = shapes::grid(4, 4);
+//! let grid = shapes::grid(4, 4).unwrap();
 //! let view_proj = DMat4::orthographic_rh_gl(-0.5, 4.5, -0.5, 4.5, -10.0, 10.0)
 //!     * DMat4::look_at_rh(DVec3::new(0.0, 0.0, 5.0), DVec3::ZERO, DVec3::Y);
 //! let view = View::new(view_proj, [0.0, 0.0, 500.0, 500.0]);

@@ -73,8 +73,9 @@ impl CutOptions {
         }
     }
 
-    /// Checks every value's domain, naming the first bad option.
-    pub(crate) fn validate(&self) -> Result<()> {
+    /// Checks every value's domain, naming the first bad option (what [`super::cut_by_stroke`]
+    /// does first; front ends call it to report a bad option before any work).
+    pub fn validate(&self) -> Result<()> {
         let bad =
             |option: &'static str, message: String| Err(Error::InvalidOption { option, message });
         for (name, v, max) in [

@@ -1,5 +1,5 @@
 //! Input preparation: the paper cuts triangle meshes (seed 002 §2.1), so faces with holes are
-//! first split by their bridges (`subdivide::holes::split_faces_with_holes`) and polygons are
+//! first split by their bridges (`mesh::holes::split_faces_with_holes`) and polygons are
 //! triangulated: a fan when convex, ear clipping otherwise (in the plane of the Newell
 //! normal). Written here because the polygons are small and no approved crate does ear
 //! clipping on 3D polygons; `spade` would need a constrained triangulation per face.
@@ -9,8 +9,8 @@ use std::borrow::Cow;
 use glam::{DVec2, DVec3};
 
 use crate::error::Result;
+use crate::mesh::holes::split_faces_with_holes;
 use crate::mesh::{FaceId, PolyMesh, VertexId};
-use crate::subdivide::holes::split_faces_with_holes;
 
 /// The triangle mesh to cut and, when it differs from the input, each triangle's input face.
 pub(crate) struct Triangles<'a> {

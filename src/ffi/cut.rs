@@ -224,6 +224,7 @@ fn c_field(option: &str) -> &str {
     }
 }
 
+#[allow(clippy::field_reassign_with_default)]
 fn options_from(o: &KatachiCutOptions) -> FfiResult<CutOptions> {
     if (o.struct_size as usize) < OPTIONS_MIN_SIZE {
         return Err(FfiError::invalid(format!(
@@ -253,16 +254,17 @@ fn options_from(o: &KatachiCutOptions) -> FfiResult<CutOptions> {
         1 => true,
         v => return Err(bad("open", v, "0, 1")),
     };
-    let c = CutOptions {
-        mode,
-        open,
-        max_faces_split: o.max_faces_split,
-        snap_vertex_ratio: o.snap_vertex_ratio,
-        snap_segment_ratio: o.snap_segment_ratio,
-        corner_angle_deg: o.corner_angle_degrees,
-        min_stroke_px: o.min_stroke_px,
-        depth_eps_rel: o.depth_eps_rel,
-    };
+    // Field by field from the default: `CutOptions` is `#[non_exhaustive]` outside the crate,
+    // and this file is also compiled against the public API alone (tests/ffi-public).
+    let mut c = CutOptions::default();
+    c.mode = mode;
+    c.open = open;
+    c.max_faces_split = o.max_faces_split;
+    c.snap_vertex_ratio = o.snap_vertex_ratio;
+    c.snap_segment_ratio = o.snap_segment_ratio;
+    c.corner_angle_deg = o.corner_angle_degrees;
+    c.min_stroke_px = o.min_stroke_px;
+    c.depth_eps_rel = o.depth_eps_rel;
     // The kernel checks the numeric fields; its message is given under the C field's name.
     c.validate().map_err(|e| match e {
         Error::InvalidOption { option, message } => {

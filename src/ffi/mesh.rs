@@ -1,11 +1,13 @@
 //! `KatachiMesh`: the opaque mesh handle, its construction from flat arrays (faces with
-//! holes included), counts, copy-out of its arrays, and its sharpness attributes.
-//! Conversion and error mapping only; the work is [`crate::PolyMesh`]'s.
+//! holes included), counts, copy-out of its arrays, its sharpness attributes, and splitting
+//! its faces with holes into simple polygons. Conversion and error mapping only; the work is
+//! [`crate::PolyMesh`]'s and [`crate::mesh::holes`]'.
 
 use super::boundary::{
     deref, deref_mut, guard, guard_value, out_buffer, slice, FfiError, FfiResult,
 };
 use super::status::KatachiStatus;
+use crate::mesh::holes::split_faces_with_holes;
 use crate::mesh::{PolyMesh, VertexId};
 
 /// A polygon mesh whose faces may have holes, with its attributes (edge and vertex
@@ -668,6 +670,45 @@ pub unsafe extern "C" fn katachi_mesh_set_all_vertex_sharpness(
             )
         }?;
         mesh.set_all_vertex_sharpness(values.to_vec())?;
+        Ok(())
+    })
+}
+
+/// A copy of `mesh` whose faces with holes are cut along bridge edges into simple polygons
+/// (for hosts that store no faces with holes), in `*out`; `face_origin`, when not NULL, gets
+/// the source face of each new face (`capacity` values, at least the new face count, which
+/// `katachi_mesh_counts` on the result gives; pass NULL to skip).
+///
+/// # Safety
+/// `mesh` NULL or a live handle; `out` NULL or writable; `face_origin` NULL or writable for
+/// `capacity` values.
+#[no_mangle]
+pub unsafe extern "C" fn katachi_mesh_split_faces_with_holes(
+    mesh: *const KatachiMesh,
+    out: *mut *mut KatachiMesh,
+    face_origin: *mut u32,
+    capacity: usize,
+) -> KatachiStatus {
+    guard("katachi_mesh_split_faces_with_holes", || {
+        // SAFETY: the caller's promises above.
+        let out = unsafe { reset_out(out) }?;
+        let mesh = unsafe { mesh_ref(mesh) }?;
+        let (split, origin) = split_faces_with_holes(mesh)?;
+        if !face_origin.is_null() {
+            let buf = unsafe {
+                out_buffer(
+                    face_origin,
+                    capacity,
+                    origin.len(),
+                    "face_origin",
+                    &"one per new face",
+                )
+            }?;
+            for (d, f) in buf.iter_mut().zip(&origin) {
+                *d = f.0;
+            }
+        }
+        *out = KatachiMesh::into_raw(split);
         Ok(())
     })
 }

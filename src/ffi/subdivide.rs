@@ -10,7 +10,6 @@ use super::boundary::{
 use super::mesh::{mesh_ref, KatachiMesh};
 use super::status::KatachiStatus;
 use crate::mesh::PolyMesh;
-use crate::subdivide::holes::split_faces_with_holes;
 use crate::subdivide::{
     merge_coplanar_regions, tag_feature_edges, BoundaryInterpolation, CreaseMethod, FaceVarying,
     HoleMethod, MergeOptions, Refiner, Stencils, SubdivideOptions,
@@ -285,11 +284,10 @@ unsafe fn subdivide(
     let mesh = unsafe { mesh_ref(mesh) }?;
     let options = options_from(unsafe { deref(options, "options") }?)?;
     // Topology and positions refined side by side, as `catmull_clark` does.
-    let (refiner, positions) = Refiner::build(mesh, &options, Some(mesh.positions()), progress)?;
-    let positions = positions.expect("positions were given");
+    let (refiner, positions) = Refiner::with_positions(mesh, &options, progress)?;
     let result = KatachiSubdivision {
         input: mesh.clone(),
-        mesh: refiner.mesh(positions),
+        mesh: refiner.mesh(positions)?,
         refiner,
         stencils: std::sync::OnceLock::new(),
     };
@@ -672,45 +670,6 @@ pub unsafe extern "C" fn katachi_tag_feature_edges(
         let out = unsafe { super::mesh::reset_out(out) }?;
         let mesh = unsafe { mesh_ref(mesh) }?;
         *out = KatachiMesh::into_raw(tag_feature_edges(mesh, angle_degrees)?);
-        Ok(())
-    })
-}
-
-/// A copy of `mesh` whose faces with holes are cut along bridge edges into simple polygons
-/// (for hosts that store no faces with holes), in `*out`; `face_origin`, when not NULL, gets
-/// the source face of each new face (`capacity` values, at least the new face count, which
-/// `katachi_mesh_counts` on the result gives; pass NULL to skip).
-///
-/// # Safety
-/// `mesh` NULL or a live handle; `out` NULL or writable; `face_origin` NULL or writable for
-/// `capacity` values.
-#[no_mangle]
-pub unsafe extern "C" fn katachi_mesh_split_faces_with_holes(
-    mesh: *const KatachiMesh,
-    out: *mut *mut KatachiMesh,
-    face_origin: *mut u32,
-    capacity: usize,
-) -> KatachiStatus {
-    guard("katachi_mesh_split_faces_with_holes", || {
-        // SAFETY: the caller's promises above.
-        let out = unsafe { super::mesh::reset_out(out) }?;
-        let mesh = unsafe { mesh_ref(mesh) }?;
-        let (split, origin) = split_faces_with_holes(mesh)?;
-        if !face_origin.is_null() {
-            let buf = unsafe {
-                out_buffer(
-                    face_origin,
-                    capacity,
-                    origin.len(),
-                    "face_origin",
-                    &"one per new face",
-                )
-            }?;
-            for (d, f) in buf.iter_mut().zip(&origin) {
-                *d = f.0;
-            }
-        }
-        *out = KatachiMesh::into_raw(split);
         Ok(())
     })
 }

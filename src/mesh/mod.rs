@@ -2,12 +2,13 @@
 //! half-edge [`Topology`].
 
 mod attributes;
+pub mod holes;
 mod ids;
 mod inspect;
 mod polymesh;
 pub mod shapes;
 mod topology;
-mod validate;
+pub(crate) mod validate;
 
 pub use attributes::INFINITELY_SHARP;
 pub use ids::{EdgeId, FaceId, HalfedgeId, LoopId, VertexId};

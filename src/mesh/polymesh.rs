@@ -16,7 +16,7 @@ use crate::error::{Error, Result};
 /// A polygon mesh whose faces may have holes. Built only through validating constructors,
 /// so every index is in range, every coordinate finite, and every loop has at least three
 /// distinct vertices and no repeated vertex.
-#[derive(Debug, Clone, PartialEq, Default)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct PolyMesh {
     positions: Vec<DVec3>,
     /// `F + 1` offsets into `loop_offsets`: face `f` has loops `face_loop_offsets[f]..face_loop_offsets[f+1]`.
@@ -28,13 +28,23 @@ pub struct PolyMesh {
     pub(crate) attributes: Attributes,
 }
 
+/// The empty mesh, as [`PolyMesh::new`]: the offset arrays hold their leading 0, so every
+/// count is 0.
+impl Default for PolyMesh {
+    fn default() -> Self {
+        PolyMesh::new()
+    }
+}
+
 impl PolyMesh {
-    /// An empty mesh: no vertices, no faces.
+    /// An empty mesh: no vertices, no faces (also [`PolyMesh::default`]).
     pub fn new() -> Self {
         PolyMesh {
+            positions: Vec::new(),
             face_loop_offsets: vec![0],
             loop_offsets: vec![0],
-            ..Default::default()
+            corners: Vec::new(),
+            attributes: Attributes::default(),
         }
     }
 

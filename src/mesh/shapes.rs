@@ -1,18 +1,73 @@
 //! Generated shapes with known counts, for tests, benchmarks and the demo.
 //! Every face is wound counter-clockwise seen from outside.
+//!
+//! Every parameter is checked before it sizes or places anything: a count too small for the
+//! shape or too large for katachi's 32-bit indices, or a length that is not finite and
+//! positive, is an [`Error::InvalidArgument`] naming the shape and the parameter.
 
 use std::f64::consts::TAU;
 
 use glam::DVec3;
 
 use super::polymesh::PolyMesh;
+use crate::error::{Error, Result};
 
-fn build(positions: Vec<DVec3>, faces: Vec<Vec<u32>>) -> PolyMesh {
-    PolyMesh::from_polygons(positions, faces).expect("generated shapes are valid")
+fn build(positions: Vec<DVec3>, faces: Vec<Vec<u32>>) -> Result<PolyMesh> {
+    PolyMesh::from_polygons(positions, faces)
+}
+
+fn invalid(shape: &str, message: String) -> Error {
+    Error::InvalidArgument(format!("{shape}: {message}"))
+}
+
+/// `value` is finite and greater than 0.
+fn positive(shape: &str, name: &str, value: f64) -> Result<()> {
+    if value.is_finite() && value > 0.0 {
+        Ok(())
+    } else {
+        Err(invalid(
+            shape,
+            format!("{name} is {value}; it must be finite and greater than 0"),
+        ))
+    }
+}
+
+/// `count` is at least `min`.
+fn at_least(shape: &str, name: &str, count: u32, min: u32) -> Result<()> {
+    if count >= min {
+        Ok(())
+    } else {
+        Err(invalid(
+            shape,
+            format!("{name} is {count}; it must be at least {min}"),
+        ))
+    }
+}
+
+/// The product of `factors` (name, value) as a vertex or face count that katachi's 32-bit
+/// indices can address.
+fn count(shape: &str, what: &str, factors: &[(&str, u64)]) -> Result<u32> {
+    let product = factors
+        .iter()
+        .try_fold(1u64, |acc, &(_, f)| acc.checked_mul(f))
+        .filter(|&n| n <= u32::MAX as u64);
+    product.map(|n| n as u32).ok_or_else(|| {
+        let names: Vec<String> = factors.iter().map(|(n, v)| format!("{n} = {v}")).collect();
+        invalid(
+            shape,
+            format!(
+                "{} gives more {what} than katachi's 32-bit indices can address",
+                names.join(", ")
+            ),
+        )
+    })
 }
 
 /// An axis-aligned cube of edge `size` centred at the origin: 8 vertices, 6 quads.
-pub fn cube(size: f64) -> PolyMesh {
+///
+/// Errors: `size` not finite and positive.
+pub fn cube(size: f64) -> Result<PolyMesh> {
+    positive("cube", "size", size)?;
     let h = size / 2.0;
     let p = (0..8)
         .map(|i| {
@@ -35,8 +90,14 @@ pub fn cube(size: f64) -> PolyMesh {
 }
 
 /// A prism over a regular `n`-gon (n ≥ 3): 2n vertices, two n-gon caps and n quads.
-pub fn ngon_prism(n: u32, radius: f64, height: f64) -> PolyMesh {
-    assert!(n >= 3, "a prism needs n >= 3");
+///
+/// Errors: `n` < 3 or 2n past the index range; `radius` or `height` not finite and positive.
+pub fn ngon_prism(n: u32, radius: f64, height: f64) -> Result<PolyMesh> {
+    const SHAPE: &str = "ngon_prism";
+    at_least(SHAPE, "n", n, 3)?;
+    count(SHAPE, "vertices", &[("2", 2), ("n", n as u64)])?;
+    positive(SHAPE, "radius", radius)?;
+    positive(SHAPE, "height", height)?;
     let mut p = Vec::with_capacity(2 * n as usize);
     for z in [0.0, height] {
         for i in 0..n {
@@ -54,9 +115,22 @@ pub fn ngon_prism(n: u32, radius: f64, height: f64) -> PolyMesh {
 
 /// A torus of `m × n` quads (m around the main circle, n around the tube): genus 1,
 /// m·n vertices, m·n faces, 2·m·n edges.
-pub fn torus(m: u32, n: u32, major: f64, minor: f64) -> PolyMesh {
-    assert!(m >= 3 && n >= 3, "a torus grid needs at least 3 × 3 quads");
-    let mut p = Vec::with_capacity((m * n) as usize);
+///
+/// Errors: `m` or `n` < 3, or m·n past the index range; `minor` not finite and positive, or
+/// `major` not finite and greater than `minor` (the tube would pass through the axis).
+pub fn torus(m: u32, n: u32, major: f64, minor: f64) -> Result<PolyMesh> {
+    const SHAPE: &str = "torus";
+    at_least(SHAPE, "m", m, 3)?;
+    at_least(SHAPE, "n", n, 3)?;
+    let quads = count(SHAPE, "vertices", &[("m", m as u64), ("n", n as u64)])?;
+    positive(SHAPE, "minor", minor)?;
+    if !(major.is_finite() && major > minor) {
+        return Err(invalid(
+            SHAPE,
+            format!("major is {major}; it must be finite and greater than minor ({minor})"),
+        ));
+    }
+    let mut p = Vec::with_capacity(quads as usize);
     for i in 0..m {
         let u = TAU * i as f64 / m as f64;
         for j in 0..n {
@@ -66,7 +140,7 @@ pub fn torus(m: u32, n: u32, major: f64, minor: f64) -> PolyMesh {
         }
     }
     let id = |i: u32, j: u32| (i % m) * n + (j % n);
-    let mut faces = Vec::with_capacity((m * n) as usize);
+    let mut faces = Vec::with_capacity(quads as usize);
     for i in 0..m {
         for j in 0..n {
             faces.push(vec![id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)]);
@@ -77,15 +151,25 @@ pub fn torus(m: u32, n: u32, major: f64, minor: f64) -> PolyMesh {
 
 /// An open `m × n` grid of unit quads in the z = 0 plane, normal +z: one boundary loop,
 /// (m+1)(n+1) vertices.
-pub fn grid(m: u32, n: u32) -> PolyMesh {
-    let mut p = Vec::with_capacity(((m + 1) * (n + 1)) as usize);
+///
+/// Errors: `m` or `n` 0, or (m+1)(n+1) past the index range.
+pub fn grid(m: u32, n: u32) -> Result<PolyMesh> {
+    const SHAPE: &str = "grid";
+    at_least(SHAPE, "m", m, 1)?;
+    at_least(SHAPE, "n", n, 1)?;
+    let vertices = count(
+        SHAPE,
+        "vertices",
+        &[("m + 1", m as u64 + 1), ("n + 1", n as u64 + 1)],
+    )?;
+    let mut p = Vec::with_capacity(vertices as usize);
     for j in 0..=n {
         for i in 0..=m {
             p.push(DVec3::new(i as f64, j as f64, 0.0));
         }
     }
     let id = |i: u32, j: u32| j * (m + 1) + i;
-    let mut faces = Vec::with_capacity((m * n) as usize);
+    let mut faces = Vec::with_capacity(m as usize * n as usize);
     for j in 0..n {
         for i in 0..m {
             faces.push(vec![id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)]);
@@ -97,8 +181,10 @@ pub fn grid(m: u32, n: u32) -> PolyMesh {
 /// A square plate `size × size × thickness` with a square through hole of side `hole`,
 /// whose top and bottom faces are faces with holes (P loop + C loop, seed 001 §2):
 /// 16 vertices, 10 faces (2 with a hole), 24 edges, genus 1.
-pub fn plate_with_hole(size: f64, hole: f64, thickness: f64) -> PolyMesh {
-    assert!(hole < size, "the hole must be smaller than the plate");
+///
+/// Errors: a length not finite and positive, or `hole` not smaller than `size`.
+pub fn plate_with_hole(size: f64, hole: f64, thickness: f64) -> Result<PolyMesh> {
+    plate_parameters("plate_with_hole", size, hole, thickness)?;
     let (a, b) = (size / 2.0, hole / 2.0);
     let square =
         |r: f64, z: f64| [(-r, -r), (r, -r), (r, r), (-r, r)].map(|(x, y)| DVec3::new(x, y, z));
@@ -116,14 +202,31 @@ pub fn plate_with_hole(size: f64, hole: f64, thickness: f64) -> PolyMesh {
         faces.push(vec![vec![i, j, 4 + j, 4 + i]]); // outer wall, facing out
         faces.push(vec![vec![8 + j, 8 + i, 12 + i, 12 + j]]); // hole wall, facing the hole axis
     }
-    PolyMesh::from_faces_with_holes(p, faces).expect("generated shapes are valid")
+    PolyMesh::from_faces_with_holes(p, faces)
+}
+
+fn plate_parameters(shape: &str, size: f64, hole: f64, thickness: f64) -> Result<()> {
+    positive(shape, "size", size)?;
+    positive(shape, "hole", hole)?;
+    positive(shape, "thickness", thickness)?;
+    if hole < size {
+        Ok(())
+    } else {
+        Err(invalid(
+            shape,
+            format!("hole is {hole}; it must be smaller than size ({size})"),
+        ))
+    }
 }
 
 /// [`plate_with_hole`] with each face with holes cut into four trapezoids by the bridges
 /// from its outer corners to the nearest hole corners (spec §5.4: the mesh on which method
 /// \[a\] equals plain Catmull-Clark). 16 vertices, 16 quads, genus 1.
-pub fn bridged_plate(size: f64, hole: f64, thickness: f64) -> PolyMesh {
-    let plate = plate_with_hole(size, hole, thickness);
+///
+/// Errors: as [`plate_with_hole`].
+pub fn bridged_plate(size: f64, hole: f64, thickness: f64) -> Result<PolyMesh> {
+    plate_parameters("bridged_plate", size, hole, thickness)?;
+    let plate = plate_with_hole(size, hole, thickness)?;
     let pos = |v: u32| plate.positions()[v as usize];
     let mut faces: Vec<Vec<u32>> = Vec::with_capacity(16);
     for f in plate.faces() {
@@ -138,13 +241,14 @@ pub fn bridged_plate(size: f64, hole: f64, thickness: f64) -> PolyMesh {
         // Outer corner i sits diagonally outside its nearest hole corner (same quadrant).
         let (p, c) = (&loops[0], &loops[1]);
         let near = |pv: u32| -> u32 {
-            *c.iter()
-                .min_by(|&&x, &&y| {
+            c.iter()
+                .copied()
+                .min_by(|&x, &y| {
                     (pos(x) - pos(pv))
                         .length()
                         .total_cmp(&(pos(y) - pos(pv)).length())
                 })
-                .expect("a hole has vertices")
+                .unwrap_or(pv)
         };
         for a in 0..4 {
             let (p0, p1) = (p[a], p[(a + 1) % 4]);
@@ -157,8 +261,11 @@ pub fn bridged_plate(size: f64, hole: f64, thickness: f64) -> PolyMesh {
 /// [`plate_with_hole`] as a CAD boolean (box minus box) outputs it: every face triangulated
 /// (the [`bridged_plate`] quads split along a diagonal). 16 vertices, 32 triangles, genus 1;
 /// `merge_coplanar_regions` turns it back into the plate.
-pub fn boolean_plate(size: f64, hole: f64, thickness: f64) -> PolyMesh {
-    let quads = bridged_plate(size, hole, thickness);
+///
+/// Errors: as [`plate_with_hole`].
+pub fn boolean_plate(size: f64, hole: f64, thickness: f64) -> Result<PolyMesh> {
+    plate_parameters("boolean_plate", size, hole, thickness)?;
+    let quads = bridged_plate(size, hole, thickness)?;
     let tris: Vec<Vec<u32>> = quads
         .faces()
         .flat_map(|f| {

@@ -23,6 +23,33 @@ pub(crate) fn positions(positions: &[DVec3]) -> Result<()> {
     Ok(())
 }
 
+/// An operation's result positions are finite; otherwise [`Error::CoordinateOverflow`]
+/// naming the input vertex with the largest coordinate (the input is finite, so only its size
+/// can have made the arithmetic overflow).
+pub(crate) fn result_positions(
+    operation: &'static str,
+    input: &[DVec3],
+    result: &[DVec3],
+) -> Result<()> {
+    if result.iter().all(|p| p.is_finite()) {
+        return Ok(());
+    }
+    let mut worst = (0u32, Axis::X, 0.0f64);
+    for (i, p) in input.iter().enumerate() {
+        for (axis, c) in [(Axis::X, p.x), (Axis::Y, p.y), (Axis::Z, p.z)] {
+            if c.abs() > worst.2.abs() {
+                worst = (i as u32, axis, c);
+            }
+        }
+    }
+    Err(Error::CoordinateOverflow {
+        operation,
+        vertex: worst.0,
+        axis: worst.1,
+        value: worst.2,
+    })
+}
+
 /// Offsets monotone and in bounds; every face has a loop; every loop has ≥ 3 distinct
 /// in-range vertices and none repeated.
 pub(crate) fn faces(

@@ -13,7 +13,7 @@
 //! ```
 //! use katachi::mesh::{shapes, INFINITELY_SHARP};
 //! use katachi::subdivide::features::tag_feature_edges;
-//! let cube = tag_feature_edges(&shapes::cube(1.0), 30.0).unwrap();
+//! let cube = tag_feature_edges(&shapes::cube(1.0).unwrap(), 30.0).unwrap();
 //! assert_eq!(cube.sharp_edges().len(), 12);
 //! assert!(cube.sharp_edges().all(|(_, _, s)| s == INFINITELY_SHARP));
 //! ```

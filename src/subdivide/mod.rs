@@ -12,7 +12,6 @@
 mod crease;
 mod face_varying;
 pub mod features;
-pub mod holes;
 mod level;
 mod options;
 mod prepare;
@@ -58,7 +57,8 @@ pub struct SubdivideReport {
 ///
 /// Never changes `mesh`. Errors: [`crate::Error::EmptyMesh`] without faces,
 /// [`crate::Error::InvalidOption`] for 0 levels or more than 8 (the face count grows 4× per
-/// level). To carry other data (colours, UVs) or get the stencil matrix, use [`Refiner`].
+/// level), [`crate::Error::CoordinateOverflow`] for coordinates so near `f64::MAX` that the
+/// subdivision's sums overflow. To carry other data (colours, UVs) or get the stencil matrix, use [`Refiner`].
 pub fn catmull_clark(mesh: &PolyMesh, options: &SubdivideOptions) -> Result<Subdivided> {
     catmull_clark_with_progress(mesh, options, &mut |_, _| {})
 }
@@ -70,8 +70,7 @@ pub fn catmull_clark_with_progress(
     options: &SubdivideOptions,
     progress: &mut dyn FnMut(u32, u32),
 ) -> Result<Subdivided> {
-    let (refiner, positions) = Refiner::build(mesh, options, Some(mesh.positions()), progress)?;
-    let positions = positions.expect("positions were given");
+    let (refiner, positions) = Refiner::with_positions(mesh, options, progress)?;
     let report = refiner.report().clone();
     let (mesh, face_origin) = refiner.into_parts(positions);
     Ok(Subdivided {

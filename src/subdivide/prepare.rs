@@ -5,12 +5,12 @@
 
 use std::collections::HashMap;
 
-use super::holes::{bridge_face, validate_faces_with_holes};
 use super::options::{HoleMethod, SubdivideOptions};
 use super::regions::merge_coplanar_regions;
 use super::tag_feature_edges;
 use super::SubdivideReport;
 use crate::error::Result;
+use crate::mesh::holes::{bridge_face, validate_faces_with_holes};
 use crate::mesh::{FaceId, LoopId, PolyMesh};
 
 /// Level 0's mesh and its maps to the input. `None` maps are the identity.

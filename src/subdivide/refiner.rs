@@ -15,7 +15,7 @@ use super::refine::{self, Step};
 use super::SubdivideReport;
 use crate::error::{Error, Result};
 use crate::mem::Buf;
-use crate::mesh::{FaceId, PolyMesh, VertexId};
+use crate::mesh::{validate, FaceId, PolyMesh, VertexId};
 
 /// The refined topology of a mesh, every level kept, ready to interpolate data.
 #[derive(Debug, Clone)]
@@ -71,15 +71,31 @@ impl Refiner {
         Ok(Self::build(mesh, options, None, progress)?.0)
     }
 
-    /// Builds the hierarchy and, when `positions` are given, interpolates them at the same
-    /// time: level l + 1's topology and level l's positions are independent, so they run in
+    /// [`Refiner::with_progress`] that also refines `mesh`'s positions, at the same time:
+    /// level l + 1's topology and level l's positions are independent, so they run in
     /// parallel (`rayon::join`). The arithmetic is the same whatever the thread count.
-    pub(crate) fn build(
+    /// Returns the refiner and the output positions, one per output vertex.
+    ///
+    /// Errors as [`Refiner::new`], and [`Error::CoordinateOverflow`] when coordinates near
+    /// `f64::MAX` make the sums overflow.
+    pub fn with_positions(
+        mesh: &PolyMesh,
+        options: &SubdivideOptions,
+        progress: &mut dyn FnMut(u32, u32),
+    ) -> Result<(Refiner, Vec<DVec3>)> {
+        let (refiner, positions) = Self::build(mesh, options, Some(mesh.positions()), progress)?;
+        validate::result_positions("subdivision", mesh.positions(), &positions)?;
+        Ok((refiner, positions))
+    }
+
+    /// Builds the hierarchy and, when `positions` are given, interpolates them alongside
+    /// (empty when not given).
+    fn build(
         mesh: &PolyMesh,
         options: &SubdivideOptions,
         positions: Option<&[DVec3]>,
         progress: &mut dyn FnMut(u32, u32),
-    ) -> Result<(Refiner, Option<Vec<DVec3>>)> {
+    ) -> Result<(Refiner, Vec<DVec3>)> {
         mesh.require_faces("subdivision")?;
         if options.levels == 0 || options.levels > 8 {
             return Err(Error::InvalidOption {
@@ -131,7 +147,7 @@ impl Refiner {
             input_vertices: mesh.vertex_count(),
             input_corners: mesh.corner_count(),
         };
-        Ok((refiner, pos.map(Buf::into_vec)))
+        Ok((refiner, pos.map(Buf::into_vec).unwrap_or_default()))
     }
 
     /// Number of levels.
@@ -261,19 +277,35 @@ impl Refiner {
         &self.levels[l]
     }
 
-    /// The output mesh with the given positions (one per output vertex), carrying the
-    /// creases that remain after refinement.
-    pub fn mesh(&self, positions: Vec<DVec3>) -> PolyMesh {
-        Self::assemble(self.last().clone(), positions)
+    /// The output mesh with the given positions (one per output vertex, all finite), carrying
+    /// the creases that remain after refinement. Errors: [`Error::AttributeLength`] for a
+    /// wrong count, [`Error::NonFiniteCoordinate`] naming the first non-finite position.
+    pub fn mesh(&self, positions: Vec<DVec3>) -> Result<PolyMesh> {
+        self.check_positions(&positions)?;
+        Ok(Self::assemble(self.last().clone(), positions))
     }
 
     /// [`Refiner::mesh`], consuming the refiner to reuse its arrays.
-    pub fn into_mesh(self, positions: Vec<DVec3>) -> PolyMesh {
-        self.into_parts(positions).0
+    pub fn into_mesh(self, positions: Vec<DVec3>) -> Result<PolyMesh> {
+        self.check_positions(&positions)?;
+        Ok(self.into_parts(positions).0)
+    }
+
+    fn check_positions(&self, positions: &[DVec3]) -> Result<()> {
+        let expected = self.vertex_count() as usize;
+        if positions.len() != expected {
+            return Err(Error::AttributeLength {
+                attribute: "positions",
+                per: "output vertex",
+                expected,
+                got: positions.len(),
+            });
+        }
+        validate::positions(positions)
     }
 
     /// The output mesh and [`Refiner::face_origin`], consuming the refiner: its arrays become
-    /// the result's without copies.
+    /// the result's without copies. `positions` must have passed [`Refiner::check_positions`].
     pub(crate) fn into_parts(mut self, positions: Vec<DVec3>) -> (PolyMesh, Vec<FaceId>) {
         let mut last = self.levels.pop().expect("a refiner has levels");
         let origin = std::mem::take(&mut last.face_origin).into_vec();

@@ -50,7 +50,7 @@
 //! use katachi::subdivide::regions::{merge_coplanar_regions, MergeOptions};
 //! // A flat 3 × 2 grid of unit quads is one plane: it merges into one face, and the
 //! // two vertices inside it go.
-//! let out = merge_coplanar_regions(&shapes::grid(3, 2), &MergeOptions::default()).unwrap();
+//! let out = merge_coplanar_regions(&shapes::grid(3, 2).unwrap(), &MergeOptions::default()).unwrap();
 //! assert_eq!(out.mesh.face_count(), 1);
 //! assert_eq!(out.mesh.vertex_count(), 12 - 2);
 //! assert_eq!(out.face_origin[0].len(), 6);

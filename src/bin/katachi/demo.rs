@@ -5,8 +5,8 @@ use std::path::Path;
 
 use glam::{DMat4, DVec2, DVec3};
 use indicatif::{ProgressBar, ProgressStyle};
+use katachi::mesh::holes::split_faces_with_holes;
 use katachi::mesh::{inspect, shapes};
-use katachi::subdivide::holes::split_faces_with_holes;
 use katachi::subdivide::{catmull_clark, HoleMethod, SubdivideOptions};
 use katachi::{io, Error, PolyMesh};
 
@@ -71,14 +71,14 @@ fn process(out: &Path, stem: &str, source: &Path, mesh: &PolyMesh) -> Result<Str
 pub fn run(out: &Path) -> Result<(), Error> {
     let inputs = out.join("input");
     create_dir(&inputs)?;
-    let mut creased = shapes::cube(2.0);
+    let mut creased = shapes::cube(2.0)?;
     let ids: Vec<_> = creased.vertices().collect();
     creased.set_edge_sharpnesses([(ids[0], ids[1], 2.5), (ids[1], ids[3], 10.0)])?;
     let generated: Vec<(&str, PolyMesh)> = vec![
         ("cube_creased", creased),
-        ("hexagonal_prism", shapes::ngon_prism(6, 1.0, 2.0)),
-        ("torus_24x12", shapes::torus(24, 12, 2.0, 0.6)),
-        ("open_grid_8x5", shapes::grid(8, 5)),
+        ("hexagonal_prism", shapes::ngon_prism(6, 1.0, 2.0)?),
+        ("torus_24x12", shapes::torus(24, 12, 2.0, 0.6)?),
+        ("open_grid_8x5", shapes::grid(8, 5)?),
     ];
     let bar = ProgressBar::new((MODELS.len() + generated.len()) as u64).with_style(
         ProgressStyle::with_template("{bar:30} {pos}/{len} {msg}").expect("a valid template"),
@@ -113,7 +113,7 @@ pub fn run(out: &Path) -> Result<(), Error> {
 /// and beast.obj when the shared models are beside the project.
 fn subdivision(out: &Path) -> Result<Vec<String>, Error> {
     let mut cases: Vec<(String, PolyMesh, SubdivideOptions)> = Vec::new();
-    let plate = shapes::boolean_plate(4.0, 2.0, 1.0);
+    let plate = shapes::boolean_plate(4.0, 2.0, 1.0)?;
     for (name, method) in [
         ("smooth_a", HoleMethod::Smooth),
         ("sharp_b", HoleMethod::Sharp),
@@ -123,7 +123,7 @@ fn subdivision(out: &Path) -> Result<Vec<String>, Error> {
         o.holes = method;
         cases.push((format!("plate_with_hole_{name}"), plate.clone(), o));
     }
-    let mut cube = shapes::cube(2.0);
+    let mut cube = shapes::cube(2.0)?;
     let v: Vec<_> = cube.vertices().collect();
     cube.set_edge_sharpnesses([
         (v[0], v[1], 10.0),

@@ -4,7 +4,7 @@ use std::path::PathBuf;
 
 use clap::ValueEnum;
 use indicatif::{ProgressBar, ProgressStyle};
-use katachi::subdivide::holes::split_faces_with_holes;
+use katachi::mesh::holes::split_faces_with_holes;
 use katachi::subdivide::{
     catmull_clark_with_progress, BoundaryInterpolation, CreaseMethod, HoleMethod, SubdivideOptions,
 };

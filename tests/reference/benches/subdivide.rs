@@ -39,7 +39,7 @@ fn models() -> Vec<(&'static str, String, PolyMesh)> {
     let mut v = vec![(
         "torus 200x160",
         "torus".to_string(),
-        shapes::torus(200, 160, 2.0, 0.5),
+        shapes::torus(200, 160, 2.0, 0.5).unwrap(),
     )];
     let beast = concat!(
         env!("CARGO_MANIFEST_DIR"),

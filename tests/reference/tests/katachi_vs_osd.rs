@@ -106,23 +106,23 @@ fn opts(boundary: BoundaryInterpolation, crease: CreaseMethod) -> SubdivideOptio
 #[test]
 fn generated_shapes_match_opensubdiv() {
     let d = SubdivideOptions::default();
-    compare("cube", &shapes::cube(2.0), &d, 3);
+    compare("cube", &shapes::cube(2.0).unwrap(), &d, 3);
     for n in [3, 5, 8] {
         compare(
             &format!("prism {n}"),
-            &shapes::ngon_prism(n, 1.0, 1.5),
+            &shapes::ngon_prism(n, 1.0, 1.5).unwrap(),
             &d,
             3,
         );
     }
-    compare("torus", &shapes::torus(12, 8, 2.0, 0.5), &d, 3);
+    compare("torus", &shapes::torus(12, 8, 2.0, 0.5).unwrap(), &d, 3);
     for b in [
         BoundaryInterpolation::EdgeOnly,
         BoundaryInterpolation::EdgeAndCorner,
     ] {
         compare(
             &format!("grid {b:?}"),
-            &shapes::grid(4, 3),
+            &shapes::grid(4, 3).unwrap(),
             &opts(b, CreaseMethod::Uniform),
             3,
         );
@@ -130,7 +130,7 @@ fn generated_shapes_match_opensubdiv() {
 }
 
 fn creased_cube(s: f64) -> PolyMesh {
-    let mut c = shapes::cube(2.0);
+    let mut c = shapes::cube(2.0).unwrap();
     let v = VertexId;
     // A chain of three edges and a separate edge, so crease ends, crease interiors and
     // Chaikin's neighbour averaging all occur.
@@ -242,8 +242,8 @@ fn shared_models_match_opensubdiv() {
 #[test]
 fn openmesh_agrees_on_closed_meshes_and_differs_on_boundaries() {
     for (name, mesh) in [
-        ("cube", shapes::cube(2.0)),
-        ("torus", shapes::torus(12, 8, 2.0, 0.5)),
+        ("cube", shapes::cube(2.0).unwrap()),
+        ("torus", shapes::torus(12, 8, 2.0, 0.5).unwrap()),
     ] {
         let ours = catmull_clark(&mesh, &SubdivideOptions::with_levels(2)).unwrap();
         let om = r::openmesh_catmull_clark(&to_ref(&mesh).0, 2).unwrap();
@@ -274,7 +274,7 @@ fn openmesh_agrees_on_closed_meshes_and_differs_on_boundaries() {
     }
     // Spec §4.1: a boundary vertex at z = 0 between boundary neighbours at z = 1 goes to 0.25
     // with the standard rule (katachi, OpenSubdiv) and to 1/3 with OpenMesh's.
-    let mut g = shapes::grid(2, 2);
+    let mut g = shapes::grid(2, 2).unwrap();
     let mut p = g.positions().to_vec();
     for v in [0usize, 2] {
         p[v].z = 1.0;
@@ -303,7 +303,7 @@ fn openmesh_agrees_on_closed_meshes_and_differs_on_boundaries() {
 /// A torus with a UV map whose seams run along one meridian and one parallel: UV vertex
 /// (i, j) for i in 0..=m, j in 0..=n, so the seam corners are UV boundaries.
 fn uv_torus(m: u32, n: u32) -> (PolyMesh, Vec<[f64; 2]>, Vec<u32>) {
-    let mesh = shapes::torus(m, n, 2.0, 0.5);
+    let mesh = shapes::torus(m, n, 2.0, 0.5).unwrap();
     let uv: Vec<[f64; 2]> = (0..=m)
         .flat_map(|i| (0..=n).map(move |j| [i as f64 / m as f64, j as f64 / n as f64]))
         .collect();
@@ -329,7 +329,7 @@ fn face_varying_matches_opensubdiv() {
         ])
         .unwrap();
     // An open grid with a UV map equal to its xy coordinates (UV boundary = mesh boundary).
-    let grid = shapes::grid(3, 2);
+    let grid = shapes::grid(3, 2).unwrap();
     let guv: Vec<[f64; 2]> = grid
         .positions()
         .iter()
@@ -396,8 +396,8 @@ mod glam_like {
 #[test]
 fn method_a_square_in_square_equals_opensubdiv_on_the_bridged_mesh() {
     use katachi::subdivide::HoleMethod;
-    let plate = shapes::plate_with_hole(4.0, 2.0, 1.0);
-    let bridged = shapes::bridged_plate(4.0, 2.0, 1.0);
+    let plate = shapes::plate_with_hole(4.0, 2.0, 1.0).unwrap();
+    let bridged = shapes::bridged_plate(4.0, 2.0, 1.0).unwrap();
     let (rm, rc) = to_ref(&bridged);
     let d = diag(&plate);
     let key = |p: [f64; 3]| p.map(|c| (c / d * 1e9).round() as i64);

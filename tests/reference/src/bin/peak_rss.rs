@@ -25,7 +25,7 @@ fn main() {
         std::process::exit(2);
     }
     let mesh = if args[2] == "torus" {
-        shapes::torus(200, 160, 2.0, 0.5)
+        shapes::torus(200, 160, 2.0, 0.5).unwrap()
     } else {
         katachi::io::read(std::path::Path::new(&args[2])).expect("a readable mesh")
     };

@@ -181,7 +181,7 @@ static bool contains(const std::string &hay, const std::string &needle) {
 }
 
 /// A filter run that must fail, into a new layer and in place: `fill_layer` makes the input
-/// layer, `set` sets the parameters (after newLayer). Checks that the filter fails with
+/// layer, `set` sets the parameters (after new_layer). Checks that the filter fails with
 /// katachi's message naming `message`, that the message is in the log, and that the layer
 /// is unchanged with no layer added; `what` starts each check's name, `in_log` and
 /// `unchanged` end the last two.

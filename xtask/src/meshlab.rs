@@ -54,8 +54,10 @@ const TEST_TOOLS: [(&str, &str); 3] = [
 /// MeshLab 2020.09: Debian 12's package (2020.09+dfsg1-2), whose source the 2020.09 build
 /// compiles against: the installed version's, see [`source_2020`].
 const MESHLAB_2020: &str = "2020.09";
-/// MeshLab 2025.07: the source package in Debian unstable (source only).
-const SOURCE_2025: &str = "meshlab=2025.07~dfsg-4";
+/// MeshLab 2025.07: the source package in Debian unstable (source only), 2025.07~dfsg-4, or
+/// a later Debian revision of the same upstream tarball once unstable has moved on.
+const SOURCE_2025: &str = "2025.07~dfsg-4";
+const UPSTREAM_2025: &str = "2025.07~dfsg";
 /// pymeshlab 2025.7: MeshLab 2025.07's libraries (Python 3.11 wheel, manylinux_2_35).
 const PYMESHLAB: &str = "pymeshlab==2025.7.post1";
 const PYMESHLAB_VERSION: &str = "2025.7.post1";
@@ -125,8 +127,9 @@ fn build(versions: Versions) -> Result<Dirs, String> {
         None
     };
     let (source2025, python) = if versions.v2025 {
+        let source_2025 = source_2025()?;
         (
-            Some(meshlab_source(&src, SOURCE_2025, "meshlab-2025.07", true)?),
+            Some(meshlab_source(&src, &source_2025, "meshlab-2025.07", true)?),
             Some(pymeshlab_python()?),
         )
     } else {
@@ -349,6 +352,43 @@ fn source_2020() -> Result<String, String> {
             version
         ))
     }
+}
+
+/// `meshlab=2025.07~dfsg-4`, or the latest `2025.07~dfsg-N` apt knows when unstable has
+/// replaced revision 4 (every revision has the same upstream tarball, the only part used).
+fn source_2025() -> Result<String, String> {
+    crate::deps::ensure_source_entries()?;
+    let out = Command::new("apt-cache")
+        .args(["showsrc", "meshlab"])
+        .output()
+        .map_err(|e| format!("cannot run apt-cache: {e}"))?;
+    pick_2025(&String::from_utf8_lossy(&out.stdout)).ok_or_else(|| {
+        format!(
+            "apt knows no source package meshlab {UPSTREAM_2025}-* (`apt-cache showsrc \
+             meshlab`); the deb-src entry for Debian unstable is written by `cargo xtask deps`"
+        )
+    })
+}
+
+/// From `apt-cache showsrc meshlab`'s text: `meshlab=<SOURCE_2025>` when listed, else the
+/// highest Debian revision of the same upstream version.
+fn pick_2025(showsrc: &str) -> Option<String> {
+    let mut versions: Vec<&str> = showsrc
+        .lines()
+        .filter_map(|l| l.strip_prefix("Version: "))
+        .map(str::trim)
+        .filter(|v| v.starts_with(&format!("{UPSTREAM_2025}-")))
+        .collect();
+    if versions.contains(&SOURCE_2025) {
+        return Some(format!("meshlab={SOURCE_2025}"));
+    }
+    versions.sort_by_key(|v| {
+        v.rsplit('-')
+            .next()
+            .and_then(|r| r.parse::<u32>().ok())
+            .unwrap_or(0)
+    });
+    versions.last().map(|v| format!("meshlab={v}"))
 }
 
 /// The Python of `<target>/pymeshlab-venv` with pymeshlab 2025.7 installed (once).
@@ -628,5 +668,22 @@ fn run_harness(harness: &Path, plugin: &Path) -> Result<usize, String> {
             out.status,
             String::from_utf8_lossy(&out.stderr)
         )),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::pick_2025;
+
+    #[test]
+    fn the_2025_source_is_pinned_or_a_later_revision() {
+        let both = "Package: meshlab\nVersion: 2020.09+dfsg1-2\n\nPackage: meshlab\nVersion: 2025.07~dfsg-4\n";
+        assert_eq!(pick_2025(both).as_deref(), Some("meshlab=2025.07~dfsg-4"));
+        let moved = "Version: 2020.09+dfsg1-2\nVersion: 2025.07~dfsg-10\nVersion: 2025.07~dfsg-5\n";
+        assert_eq!(pick_2025(moved).as_deref(), Some("meshlab=2025.07~dfsg-10"));
+        assert_eq!(
+            pick_2025("Version: 2020.09+dfsg1-2\nVersion: 2026.01-1\n"),
+            None
+        );
     }
 }

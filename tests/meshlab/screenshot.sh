@@ -48,7 +48,7 @@ in_meshlab "$model" '
     xdotool mousemove 935 137 click 1     # katachi: Solid-aware subdivision
     sleep 3
     import -window root -crop 1280x860+0+0 "$out/meshlab_subdivide.png"
-    xdotool mousemove 336 460 click 1     # Apply
+    xdotool mousemove 280 475 click 1     # Apply
     sleep 5
     import -window root -crop 1280x860+0+0 "$out/meshlab_subdivide_result.png"
 '
@@ -57,7 +57,7 @@ echo "wrote $root/docs/images/meshlab_subdivide.png and meshlab_subdivide_result
 in_meshlab "$root/../shared/data/models/fandisk.off" '
     xdotool mousemove 905 112 click 1     # katachi: Cut by polyline
     sleep 3
-    xdotool mousemove 280 360 click 1     # Stroke (pixels)
+    xdotool mousemove 280 360 click 1     # Stroke
     xdotool type --delay 30 "150 400; 450 420; 750 400"
     sleep 1
     xdotool mousemove 340 520 click 1     # Apply (the view: the 3D view, by default)

@@ -30,10 +30,12 @@ SUBDIVIDE = "katachi_solid_aware_subdivision"
 CUT = "katachi_cut_by_polyline"
 
 
-#: Every MeshSet the tests make, kept alive to the end. pymeshlab 2025.7's plugins keep a
-#: pointer to the log of the last MeshSet that used them: once that MeshSet is freed, the
-#: next mesh load logs into freed memory (valgrind shows libio_base's open writing into a
-#: MeshSet freed by Python; the process then aborts in malloc). Not the plugin's doing.
+#: Every MeshSet the tests make, kept alive to the end. pymeshlab 2025.7 has a use-after-free:
+#: after a filter fails (an MLException, from any plugin: MeshLab's own
+#: compute_selection_by_condition_per_vertex with a bad expression does it too), the next
+#: load_new_mesh in any MeshSet logs into the failed MeshSet's log, freed memory once that
+#: MeshSet is gone (valgrind: libio_base's open, GLLogStream::log into a block freed with the
+#: MeshSet; then malloc aborts). Not the plugin's doing.
 _meshsets = []
 
 

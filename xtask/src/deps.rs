@@ -3,9 +3,10 @@
 //! Idempotent: asks dpkg what is already there and installs only what is missing, printing
 //! what it installs. Needs root on Debian or Ubuntu; elsewhere it says which packages to get.
 //!
-//! Also the `deb-src` entries the MeshLab plugin's headers come from ([`ensure_source_entries`]):
-//! the system's own suites (MeshLab 2020.09, Debian 12) and Debian unstable (MeshLab 2025.07),
-//! source packages only, so nothing from unstable can be installed.
+//! Also the `deb-src` entries the MeshLab plugin's headers come from ([`SourceApt`]): the
+//! system's own suites (MeshLab 2020.09, Debian 12) and Debian unstable (MeshLab 2025.07), in
+//! an apt configuration of the project's own under `target/apt`, so the system's apt is left
+//! as it is and nothing from unstable can be installed.
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -121,7 +122,7 @@ pub fn run(_args: &[&str]) -> Result<(), String> {
     let missing: Vec<&(&str, &str)> = PACKAGES.iter().filter(|(p, _)| !installed(p)).collect();
     if missing.is_empty() {
         eprintln!("xtask deps: all {} packages are installed", PACKAGES.len());
-        return ensure_source_entries();
+        return remove_old_system_entries();
     }
     for (p, why) in &missing {
         eprintln!("xtask deps: will install {p} ({why})");
@@ -145,7 +146,7 @@ pub fn run(_args: &[&str]) -> Result<(), String> {
         .filter(|p| !installed(p))
         .collect();
     if still.is_empty() {
-        ensure_source_entries()
+        remove_old_system_entries()
     } else {
         Err(format!("apt-get did not install: {}", still.join(" ")))
     }
@@ -155,108 +156,157 @@ pub fn run(_args: &[&str]) -> Result<(), String> {
 // Source packages (`apt-get source`)
 
 const APT_DIR: &str = "/etc/apt";
-/// Our entries, beside the system's: `<APT_DIR>/sources.list.d/katachi-deb-src.{sources,list}`.
-const OUR_SOURCES: &str = "katachi-deb-src";
+/// The machine-wide entries earlier versions of this task wrote
+/// (`<APT_DIR>/sources.list.d/katachi-deb-src.{sources,list}`); removed when found.
+const OLD_SOURCES: &str = "katachi-deb-src";
 
 /// The suite whose source package holds MeshLab 2025.07 (`meshlab` 2025.07~dfsg-4).
 const UNSTABLE: &str = "unstable";
+const DEBIAN_KEYRING: &str = "/usr/share/keyrings/debian-archive-keyring.gpg";
 
-/// Makes sure apt has `deb-src` entries (source packages only) for the system's own
-/// Debian/Ubuntu suites, when it has none, and for Debian unstable; writes them to
-/// `katachi-deb-src.sources` (or `.list`) beside the system's entries and runs
-/// `apt-get update` when that file changes. Idempotent. The unstable entry is Debian's
-/// (`deb.debian.org`, its archive keyring); `apt-get source meshlab=2025.07~dfsg-4` needs it.
-pub fn ensure_source_entries() -> Result<(), String> {
-    let apt = Path::new(APT_DIR);
-    let mut files = vec![apt.join("sources.list")];
-    if let Ok(entries) = std::fs::read_dir(apt.join("sources.list.d")) {
-        let mut more: Vec<PathBuf> = entries.filter_map(|e| e.ok().map(|e| e.path())).collect();
-        more.sort();
-        files.extend(more);
-    }
-    let mut has_src = false;
-    let mut stanzas = Vec::new();
-    let mut lines = Vec::new();
-    for f in &files {
-        let name = f.file_name().and_then(|n| n.to_str()).unwrap_or("");
-        if name.starts_with(OUR_SOURCES) {
-            continue;
-        }
-        let Ok(text) = std::fs::read_to_string(f) else {
-            continue;
+/// apt for source packages only, in a configuration of the project's own under
+/// `<target>/apt/`: `sources.list.d/katachi.sources` holds `deb-src` entries for the system's
+/// own Debian/Ubuntu suites (MeshLab 2020.09's source) and for Debian unstable (2025.07's),
+/// and `lists/` and `cache/` are its own. `apt-get source` and `apt-cache showsrc` run with
+/// `-o Dir::…` pointing there, so the system's apt (its sources, lists and cache) is never
+/// changed, `apt-get install` never sees unstable, and no root is needed.
+pub struct SourceApt {
+    dir: PathBuf,
+}
+
+impl SourceApt {
+    /// Writes the configuration and runs `apt-get update` in it when the entries changed or
+    /// it has no lists yet.
+    pub fn open() -> Result<SourceApt, String> {
+        let apt = SourceApt {
+            dir: crate::ctest::target_dir().join("apt"),
         };
-        if name.ends_with(".sources") {
-            has_src |= has_deb_src_deb822(&text);
-            // Only the distribution's own archive: third-party repositories often have no
-            // source packages and would make `apt-get update` fail.
-            if name == "debian.sources" || name == "ubuntu.sources" {
-                stanzas.extend(deb_src_stanzas(&text));
-            }
-        } else if name == "sources.list" || name.ends_with(".list") {
-            has_src |= has_deb_src_list(&text);
-            if name == "sources.list" {
-                lines.extend(deb_src_lines(&text));
-            }
+        let parts = apt.dir.join("sources.list.d");
+        let lists = apt.dir.join("lists");
+        for d in [
+            parts.clone(),
+            lists.join("partial"),
+            apt.dir.join("cache/archives/partial"),
+        ] {
+            std::fs::create_dir_all(&d).map_err(|e| format!("{}: {e}", d.display()))?;
         }
+        let empty = apt.dir.join("sources.list");
+        std::fs::write(&empty, "").map_err(|e| format!("{}: {e}", empty.display()))?;
+        let text = source_entries()?;
+        let path = parts.join("katachi.sources");
+        let has_lists = std::fs::read_dir(&lists).is_ok_and(|mut d| {
+            d.any(|e| e.is_ok_and(|e| e.file_name().to_string_lossy().ends_with("_Sources")))
+        });
+        if has_lists && std::fs::read_to_string(&path).is_ok_and(|old| old == text) {
+            return Ok(apt);
+        }
+        std::fs::write(&path, &text).map_err(|e| format!("{}: {e}", path.display()))?;
+        eprintln!(
+            "xtask deps: source-package entries in {} (apt's own configuration is untouched)",
+            path.display()
+        );
+        util::run(apt.command("apt-get").args(["update", "-q"]))?;
+        Ok(apt)
     }
-    if has_src {
-        stanzas.clear();
-        lines.clear();
-    } else if stanzas.is_empty() && lines.is_empty() {
+
+    /// `program` (`apt-get`, `apt-cache`) in this configuration.
+    pub fn command(&self, program: &str) -> Command {
+        let d = |p: &str| self.dir.join(p).display().to_string();
+        let mut c = Command::new(program);
+        for (key, value) in [
+            ("Dir::Etc::SourceList", d("sources.list")),
+            ("Dir::Etc::SourceParts", d("sources.list.d")),
+            ("Dir::State::Lists", d("lists")),
+            ("Dir::Cache", d("cache")),
+            // Its own directories, which apt's unprivileged download user may not write.
+            ("APT::Sandbox::User", "root".to_owned()),
+        ] {
+            c.arg("-o").arg(format!("{key}={value}"));
+        }
+        c.env("DEBIAN_FRONTEND", "noninteractive");
+        c
+    }
+}
+
+/// The `deb-src` entries (deb822): the system's Debian/Ubuntu archive entries turned into
+/// `deb-src` ones, and Debian unstable's main.
+fn source_entries() -> Result<String, String> {
+    let apt = Path::new(APT_DIR);
+    let deb822 = std::fs::read_to_string(apt.join("sources.list.d/debian.sources"))
+        .or_else(|_| std::fs::read_to_string(apt.join("sources.list.d/ubuntu.sources")))
+        .ok();
+    let list = std::fs::read_to_string(apt.join("sources.list")).ok();
+    let mut stanzas = system_source_stanzas(deb822.as_deref(), list.as_deref());
+    if stanzas.is_empty() {
         return Err(
-            "apt has no deb-src entry and no Debian/Ubuntu archive entry (debian.sources, \
-             ubuntu.sources or sources.list) to make one from; add a deb-src entry by hand"
+            "apt has no Debian/Ubuntu archive entry (sources.list.d/debian.sources, \
+             ubuntu.sources or sources.list) to take the source packages from"
                 .into(),
         );
     }
-    let keyring = "/usr/share/keyrings/debian-archive-keyring.gpg";
-    let header = "# Written by `cargo xtask deps` (katachi): source packages for the MeshLab \
-                  plugin's headers (`apt-get source meshlab=...`). Sources only: nothing from \
-                  these entries can be installed.\n";
-    let (path, body) = if lines.is_empty() {
+    if !Path::new(DEBIAN_KEYRING).is_file() {
+        return Err(format!(
+            "{DEBIAN_KEYRING} is missing (the Debian package debian-archive-keyring); the \
+             deb-src entry for Debian {UNSTABLE} needs it"
+        ));
+    }
+    stanzas.push(format!(
+        "Types: deb-src\nURIs: http://deb.debian.org/debian\nSuites: {UNSTABLE}\n\
+         Components: main\nSigned-By: {DEBIAN_KEYRING}\n"
+    ));
+    Ok(format!(
+        "# Written by `cargo xtask` (katachi, xtask/src/deps.rs): source packages for the MeshLab \
+         plugin's headers, in a configuration of its own.\n{}",
+        stanzas.join("\n")
+    ))
+}
+
+/// The system's Debian/Ubuntu archive entries (its deb822 `debian.sources` or
+/// `ubuntu.sources`, and one-line `sources.list`) as `deb-src` deb822 stanzas.
+fn system_source_stanzas(deb822: Option<&str>, list: Option<&str>) -> Vec<String> {
+    let mut stanzas = deb822.map(deb_src_stanzas).unwrap_or_default();
+    for l in list.map(deb_src_lines).unwrap_or_default() {
+        let mut words = l.split_whitespace().skip(1).filter(|w| !w.starts_with('['));
+        let (Some(uri), Some(suite)) = (words.next(), words.next()) else {
+            continue;
+        };
+        let components: Vec<&str> = words.collect();
         stanzas.push(format!(
-            "Types: deb-src\nURIs: http://deb.debian.org/debian\nSuites: {UNSTABLE}\n\
-             Components: main\nSigned-By: {keyring}\n"
-        ));
-        (
-            apt.join("sources.list.d")
-                .join(format!("{OUR_SOURCES}.sources")),
-            stanzas.join("\n"),
-        )
-    } else {
-        lines.push(format!(
-            "deb-src [signed-by={keyring}] http://deb.debian.org/debian {UNSTABLE} main"
-        ));
-        (
-            apt.join("sources.list.d")
-                .join(format!("{OUR_SOURCES}.list")),
-            lines.join("\n") + "\n",
-        )
-    };
-    let text = format!("{header}{body}");
-    if std::fs::read_to_string(&path).is_ok_and(|old| old == text) {
-        return Ok(());
-    }
-    if !Path::new(keyring).is_file() {
-        return Err(format!(
-            "{keyring} is missing (the Debian package debian-archive-keyring); the deb-src \
-             entry for Debian {UNSTABLE} needs it"
+            "Types: deb-src\nURIs: {uri}\nSuites: {suite}\nComponents: {}\n",
+            components.join(" ")
         ));
     }
-    if !is_root() {
-        return Err(format!(
-            "apt needs deb-src entries for `apt-get source meshlab=...`; run `sudo cargo xtask \
-             deps` once, or write {} with:\n{body}",
-            path.display()
-        ));
+    stanzas
+}
+
+/// Removes the machine-wide `deb-src` entries earlier versions wrote (they made a plain
+/// `apt-get source meshlab` on the machine fetch unstable's 2025.07). Only files that say they
+/// are ours.
+fn remove_old_system_entries() -> Result<(), String> {
+    let mut removed = false;
+    for ext in ["sources", "list"] {
+        let path = Path::new(APT_DIR)
+            .join("sources.list.d")
+            .join(format!("{OLD_SOURCES}.{ext}"));
+        let ours = std::fs::read_to_string(&path)
+            .is_ok_and(|t| t.starts_with("# Written by `cargo xtask") && t.contains("katachi"));
+        if ours && is_root() {
+            std::fs::remove_file(&path).map_err(|e| format!("{}: {e}", path.display()))?;
+            eprintln!(
+                "xtask deps: removed {} (now private to the project)",
+                path.display()
+            );
+            removed = true;
+        }
     }
-    std::fs::write(&path, text).map_err(|e| format!("{}: {e}", path.display()))?;
-    eprintln!("xtask deps: wrote the deb-src entries {}", path.display());
-    util::run(
-        Command::new("apt-get")
-            .args(["update", "-q"])
-            .env("DEBIAN_FRONTEND", "noninteractive"),
-    )
+    if removed {
+        util::run(
+            Command::new("apt-get")
+                .args(["update", "-q"])
+                .env("DEBIAN_FRONTEND", "noninteractive"),
+        )?;
+    }
+    Ok(())
 }
 
 /// Splits deb822 text into stanzas (blank-line separated), comment lines dropped.
@@ -287,13 +337,6 @@ fn enabled(stanza: &[&str]) -> bool {
     field(stanza, "Enabled").is_none_or(|v| !v.eq_ignore_ascii_case("no"))
 }
 
-fn has_deb_src_deb822(text: &str) -> bool {
-    deb822_stanzas(text).iter().any(|s| {
-        enabled(s)
-            && field(s, "Types").is_some_and(|t| t.split_whitespace().any(|t| t == "deb-src"))
-    })
-}
-
 /// For each enabled `Types: deb` stanza, the same stanza with `Types: deb-src`.
 fn deb_src_stanzas(text: &str) -> Vec<String> {
     deb822_stanzas(text)
@@ -315,10 +358,6 @@ fn deb_src_stanzas(text: &str) -> Vec<String> {
         .collect()
 }
 
-fn has_deb_src_list(text: &str) -> bool {
-    text.lines().any(|l| l.trim_start().starts_with("deb-src "))
-}
-
 /// `deb …` lines of a one-line-style list turned into `deb-src …`.
 fn deb_src_lines(text: &str) -> Vec<String> {
     text.lines()
@@ -334,15 +373,21 @@ mod tests {
     #[test]
     fn deb_src_from_deb822() {
         let text = "Types: deb\n# c\nURIs: http://deb.debian.org/debian\nSuites: bookworm\nComponents: main\n\nTypes: deb\nURIs: http://x\nSuites: s\nEnabled: no\n";
-        assert!(!has_deb_src_deb822(text));
         let st = deb_src_stanzas(text);
         assert_eq!(st.len(), 1);
         assert!(st[0].starts_with("Types: deb-src\nURIs: http://deb.debian.org/debian\n"));
-        assert!(has_deb_src_deb822(&st[0]));
-        assert!(has_deb_src_list("deb http://a b c\ndeb-src http://a b c\n"));
         assert_eq!(
             deb_src_lines("deb http://a bookworm main\n# deb x\n"),
             vec!["deb-src http://a bookworm main"]
         );
+        let from_list = system_source_stanzas(
+            None,
+            Some("deb [arch=amd64] http://archive.ubuntu.com/ubuntu noble main universe\n"),
+        );
+        assert_eq!(
+            from_list,
+            vec!["Types: deb-src\nURIs: http://archive.ubuntu.com/ubuntu\nSuites: noble\nComponents: main universe\n"]
+        );
+        assert_eq!(system_source_stanzas(Some(text), None), st);
     }
 }

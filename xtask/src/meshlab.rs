@@ -6,9 +6,10 @@
 //! Build:
 //! 1. MeshLab's sources into `<target>/meshlab/src` (kept and reused; `<target>` is
 //!    `$CARGO_TARGET_DIR` or `<root>/target`): `apt-get source meshlab=<the installed
-//!    version>` (Debian 12's 2020.09+dfsg1-2) and `apt-get source --tar-only meshlab=2025.07~dfsg-4` (Debian unstable:
-//!    only the upstream tarball, which holds `src/common` and `src/vcglib`; the suite's
-//!    `deb-src` entry, source packages only, is written by `cargo xtask deps`);
+//!    version>` (Debian 12's 2020.09+dfsg1-2) and `apt-get source --tar-only
+//!    meshlab=2025.07~dfsg-4` (Debian unstable: only the upstream tarball, which holds
+//!    `src/common` and `src/vcglib`), both through the project's own apt configuration
+//!    (`deps::SourceApt`, `<target>/apt`: deb-src entries only; the system's apt is untouched);
 //! 2. `cargo build --release -p katachi` (the library the plugin links, the CLI the tests
 //!    compare with);
 //! 3. for 2025.07, `pymeshlab==2025.7.post1` from PyPI into the venv `<target>/pymeshlab-venv`
@@ -285,12 +286,12 @@ fn meshlab_source(dir: &Path, spec: &str, name: &str, tar_only: bool) -> Result<
         );
         return Ok(found);
     }
-    crate::deps::ensure_source_entries()?;
+    let apt = crate::deps::SourceApt::open()?;
     if dir.exists() {
         std::fs::remove_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
     }
     std::fs::create_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
-    let mut cmd = Command::new("apt-get");
+    let mut cmd = apt.command("apt-get");
     cmd.args(["source", "-q"]);
     if tar_only {
         cmd.arg("--tar-only");
@@ -357,15 +358,15 @@ fn source_2020() -> Result<String, String> {
 /// `meshlab=2025.07~dfsg-4`, or the latest `2025.07~dfsg-N` apt knows when unstable has
 /// replaced revision 4 (every revision has the same upstream tarball, the only part used).
 fn source_2025() -> Result<String, String> {
-    crate::deps::ensure_source_entries()?;
-    let out = Command::new("apt-cache")
+    let out = crate::deps::SourceApt::open()?
+        .command("apt-cache")
         .args(["showsrc", "meshlab"])
         .output()
         .map_err(|e| format!("cannot run apt-cache: {e}"))?;
     pick_2025(&String::from_utf8_lossy(&out.stdout)).ok_or_else(|| {
         format!(
             "apt knows no source package meshlab {UPSTREAM_2025}-* (`apt-cache showsrc \
-             meshlab`); the deb-src entry for Debian unstable is written by `cargo xtask deps`"
+             meshlab`) in the project's apt configuration (<target>/apt)"
         )
     })
 }

@@ -98,7 +98,7 @@ pub enum Error {
         got: usize,
     },
     /// A sharpness value is negative or not finite.
-    #[error("{element}: sharpness {value} is invalid (it must be finite and at least 0)")]
+    #[error("{element}: sharpness {} is invalid (it must be finite and at least 0)", Num(*.value))]
     InvalidSharpness { element: String, value: f64 },
     /// A face with holes is not a valid planar face with holes: a loop off its plane, loops
     /// crossing or touching, a hole outside the outer loop or inside another hole, a hole
@@ -124,7 +124,7 @@ pub enum Error {
     },
     /// A stroke has fewer than two points left once points closer than `min_px` to the
     /// previous kept point are dropped (stroke cut, seed 002).
-    #[error("the stroke has {points} point(s) at least {min_px} px apart; a cut needs at least 2")]
+    #[error("the stroke has {points} point(s) at least {} px apart; a cut needs at least 2", Num(*.min_px))]
     StrokeTooShort { points: u32, min_px: f64 },
     /// A stroke point has a NaN or infinite coordinate.
     #[error("stroke point {index}: coordinate {axis} is {value}, not a finite number")]
@@ -139,10 +139,10 @@ pub enum Error {
     )]
     NonFiniteMatrixEntry { column: u32, row: u32, value: f64 },
     /// The view-projection matrix cannot be inverted, so moved vertices cannot be unprojected.
-    #[error("the view-projection matrix is singular (determinant {determinant})")]
+    #[error("the view-projection matrix is singular (determinant {})", Num(*.determinant))]
     SingularViewProjection { determinant: f64 },
     /// The viewport is not finite or has no area.
-    #[error("viewport [x0, y0, width, height] = {viewport:?}: {reason}")]
+    #[error("viewport [x0, y0, width, height] = [{}, {}, {}, {}]: {reason}", Num(.viewport[0]), Num(.viewport[1]), Num(.viewport[2]), Num(.viewport[3]))]
     InvalidViewport {
         viewport: [f64; 4],
         reason: &'static str,
@@ -177,6 +177,21 @@ pub enum Error {
     /// A bug in katachi.
     #[error("internal error: {0} (this is a bug in katachi; please report it)")]
     Internal(String),
+}
+
+/// A number in a message: plain for ordinary magnitudes (`2.5`, `-3`), with an exponent for
+/// very large or small ones (`1e300`, not three hundred digits).
+struct Num(f64);
+
+impl std::fmt::Display for Num {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let a = self.0.abs();
+        if a == 0.0 || !a.is_finite() || (1e-4..1e15).contains(&a) {
+            write!(f, "{}", self.0)
+        } else {
+            write!(f, "{:e}", self.0)
+        }
+    }
 }
 
 fn parse_message(path: &std::path::Path, line: usize, byte: Option<u64>, message: &str) -> String {

@@ -10,6 +10,9 @@ use katachi::mesh::shapes;
 use katachi::{DVec3, FaceId, PolyMesh, VertexId};
 use proptest::prelude::*;
 
+mod support;
+use support::property::counted_proptest;
+
 // ---------------------------------------------------------------------------------------------
 // Building faces.
 
@@ -659,7 +662,7 @@ fn inradius(poly: &[[f64; 2]]) -> f64 {
         .fold(f64::INFINITY, f64::min)
 }
 
-proptest! {
+counted_proptest! {
     #![proptest_config(ProptestConfig::with_cases(300))]
 
     #[test]

@@ -11,6 +11,9 @@ use katachi::mesh::shapes;
 use katachi::{DVec3, Error, PolyMesh, VertexId};
 use proptest::prelude::*;
 
+mod support;
+use support::property::counted_proptest;
+
 // ---------------------------------------------------------------------------------------
 // helpers
 
@@ -878,7 +881,7 @@ fn read_all_formats(bytes: &[u8]) {
     }
 }
 
-proptest! {
+counted_proptest! {
     #![proptest_config(ProptestConfig::with_cases(512))]
 
     #[test]

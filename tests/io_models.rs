@@ -1,10 +1,12 @@
-//! The shared test models (`../shared/data/models`): every file reads, and its counts and
-//! defects match `MANIFEST.md` (file I/O module, with `katachi::mesh::inspect`).
+//! The test models: every bundled model (`tests/data/models`) reads, and its counts and
+//! defects match the table in its README; with a corpus (`KATACHI_CORPUS`, or
+//! `../shared/data/models` beside the checkout), every corpus model matches the corpus's
+//! `MANIFEST.md` the same way (file I/O module, with `katachi::mesh::inspect`).
 //!
-//! The expected numbers are parsed from the manifest itself, so the test and the manifest
-//! cannot drift apart, and a model added to the manifest is tested without editing this
-//! file. tobj, the OBJ crate the project depends on, serves as an independent oracle for
-//! face sizes and corner positions of the OBJ models.
+//! The expected numbers are parsed from the tables themselves, so the tests and the tables
+//! cannot drift apart, and a model added to a table is tested without editing this file.
+//! tobj, the OBJ crate the project depends on, serves as an independent oracle for face
+//! sizes and corner positions of the OBJ models.
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -13,17 +15,59 @@ use katachi::io::{self, Format, PlyEncoding, WriteOptions};
 use katachi::mesh::{inspect, EdgeId, MeshReport, TopologyOptions};
 use katachi::{PolyMesh, Topology};
 
-const MODELS: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/data/models");
+mod support;
+use support::models;
 
-fn models_dir() -> PathBuf {
-    let dir = PathBuf::from(MODELS);
+/// A folder of models and the table describing them.
+struct Set {
+    dir: PathBuf,
+    table: &'static str,
+    rows: Vec<Row>,
+    corpus: bool,
+}
+
+/// The bundled models, and the corpus when one is given (else `test` is recorded as not run
+/// over it).
+fn sets(test: &str) -> Vec<Set> {
+    let bundled = models::bundled_dir();
+    let rows = table(&bundled, "README.md");
     assert!(
-        dir.join("MANIFEST.md").is_file(),
-        "the shared test models are missing: expected {} (the `shared` directory beside the \
-         checkout, with data/models/MANIFEST.md)",
-        dir.display()
+        rows.len() >= 9,
+        "tests/data/models/README.md: only {} model rows",
+        rows.len()
     );
-    dir
+    let mut v = vec![Set {
+        dir: bundled,
+        table: "README.md",
+        rows,
+        corpus: false,
+    }];
+    match models::corpus() {
+        Some(dir) => {
+            let rows = table(&dir, "MANIFEST.md");
+            v.push(Set {
+                dir,
+                table: "MANIFEST.md",
+                rows,
+                corpus: true,
+            });
+        }
+        None => models::not_run(test, "every corpus model in MANIFEST.md"),
+    }
+    v
+}
+
+fn table(dir: &Path, name: &str) -> Vec<Row> {
+    let path = dir.join(name);
+    let text = std::fs::read_to_string(&path).unwrap_or_else(|e| {
+        panic!(
+            "{}: {e} (a model folder needs a table of its models, as ../shared/data/models/MANIFEST.md)",
+            path.display()
+        )
+    });
+    let rows = parse_manifest(&text);
+    assert!(!rows.is_empty(), "{}: no model rows", path.display());
+    rows
 }
 
 /// One row of MANIFEST.md, with the columns this test checks.
@@ -116,17 +160,6 @@ fn parse_manifest(text: &str) -> Vec<Row> {
             zero_area: number_before(other, "zero-area").unwrap_or(0),
         });
     }
-    rows
-}
-
-fn manifest() -> Vec<Row> {
-    let text = std::fs::read_to_string(models_dir().join("MANIFEST.md")).unwrap();
-    let rows = parse_manifest(&text);
-    assert!(
-        rows.len() >= 20,
-        "MANIFEST.md: only {} model rows found",
-        rows.len()
-    );
     rows
 }
 
@@ -275,46 +308,67 @@ fn check_row(row: &Row, mesh: &PolyMesh, r: &MeshReport, errors: &mut Vec<String
 }
 
 #[test]
-fn every_shared_model_matches_the_manifest() {
-    let dir = models_dir();
-    let rows = manifest();
+fn every_model_matches_its_table() {
+    const TEST: &str = "io_models::every_model_matches_its_table";
     let mut errors = Vec::new();
-    // Every model file in the directory has a manifest row, and the other way round.
-    let mut on_disk: Vec<String> = std::fs::read_dir(&dir)
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .filter(|n| Format::from_path(Path::new(n)).is_ok())
-        .collect();
-    on_disk.sort();
-    let mut listed: Vec<String> = rows.iter().map(|r| r.file.clone()).collect();
-    listed.sort();
-    assert_eq!(on_disk, listed, "model files and MANIFEST.md rows differ");
-
-    for row in &rows {
-        let path = dir.join(&row.file);
-        let size = std::fs::metadata(&path).unwrap().len();
-        if size != row.bytes {
-            errors.push(format!(
-                "{}: {} bytes, manifest says {}",
-                row.file, size, row.bytes
-            ));
-        }
-        let mesh = match io::read(&path) {
-            Ok(m) => m,
-            Err(e) => {
-                errors.push(format!("{}: does not read: {e}", row.file));
-                continue;
+    for set in sets(TEST) {
+        // Every model file in the folder has a row, and the other way round.
+        let mut on_disk: Vec<String> = std::fs::read_dir(&set.dir)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .filter(|n| Format::from_path(Path::new(n)).is_ok())
+            .collect();
+        on_disk.sort();
+        let mut listed: Vec<String> = set.rows.iter().map(|r| r.file.clone()).collect();
+        listed.sort();
+        assert_eq!(
+            on_disk,
+            listed,
+            "{}: model files and {} rows differ",
+            set.dir.display(),
+            set.table
+        );
+        for row in &set.rows {
+            let path = set.dir.join(&row.file);
+            let size = std::fs::metadata(&path).unwrap().len();
+            if size != row.bytes {
+                errors.push(format!(
+                    "{}: {} bytes, {} says {}",
+                    row.file, size, set.table, row.bytes
+                ));
             }
-        };
-        let report = inspect(&mesh).unwrap();
-        check_row(row, &mesh, &report, &mut errors);
+            let mesh = match io::read(&path) {
+                Ok(m) => m,
+                Err(e) => {
+                    errors.push(format!("{}: does not read: {e}", row.file));
+                    continue;
+                }
+            };
+            let report = inspect(&mesh).unwrap();
+            check_row(row, &mesh, &report, &mut errors);
+            if set.corpus {
+                models::ran(TEST, &row.file);
+            }
+        }
     }
     assert!(errors.is_empty(), "{}", errors.join("\n"));
 }
 
+/// The corpus's broken models (their licenses do not allow bundling them).
 #[test]
 fn defective_models_report_their_defects() {
-    let dir = models_dir();
+    let Some(paths) = models::corpus_models(
+        "io_models::defective_models_report_their_defects",
+        &[
+            "degenerated.obj",
+            "teapot.obj",
+            "cgal_all_degen.off",
+            "cgal_non_manifold_face_graph.off",
+        ],
+    ) else {
+        return;
+    };
+    let dir = paths[0].parent().unwrap().to_path_buf();
     // degenerated.obj: 12 triangles, each also written reversed; the 6 edges at vertex 0
     // carry 8 face sides each, so 12 directed half-edges occur more than once.
     let m = io::read(&dir.join("degenerated.obj")).unwrap();
@@ -358,24 +412,44 @@ fn defective_models_report_their_defects() {
         (r.components, r.boundary_loops, r.coincident_vertices),
         (3, 3, 3)
     );
+    for p in &paths {
+        models::ran(
+            "io_models::defective_models_report_their_defects",
+            &p.file_name().unwrap().to_string_lossy(),
+        );
+    }
 }
 
 /// Face sizes and corner positions agree with tobj (which renumbers vertices and reads
 /// `f32`, so corners are compared by position, to `f32` precision).
 #[test]
 fn obj_models_agree_with_tobj() {
-    let dir = models_dir();
+    const TEST: &str = "io_models::obj_models_agree_with_tobj";
     let opts = tobj::LoadOptions {
         triangulate: false,
         single_index: false,
         ..Default::default()
     };
-    for row in manifest().iter().filter(|r| r.file.ends_with(".obj")) {
-        let path = dir.join(&row.file);
-        let mesh = io::read(&path).unwrap();
-        let (models, _) = tobj::load_obj(&path, &opts).unwrap();
+    let mut checked = 0;
+    for set in sets(TEST) {
+        for row in set.rows.iter().filter(|r| r.file.ends_with(".obj")) {
+            let path = set.dir.join(&row.file);
+            obj_agrees_with_tobj(&path, &row.file, &opts);
+            checked += 1;
+            if set.corpus {
+                models::ran(TEST, &row.file);
+            }
+        }
+    }
+    assert!(checked >= 3, "only {checked} OBJ models");
+}
+
+fn obj_agrees_with_tobj(path: &Path, file: &str, opts: &tobj::LoadOptions) {
+    {
+        let mesh = io::read(path).unwrap();
+        let (objects, _) = tobj::load_obj(path, opts).unwrap();
         let mut face = 0u32;
-        for model in &models {
+        for model in &objects {
             let tm = &model.mesh;
             let nf = if tm.face_arities.is_empty() {
                 tm.indices.len() / 3
@@ -386,7 +460,7 @@ fn obj_models_agree_with_tobj() {
             for i in 0..nf {
                 let arity = tm.face_arities.get(i).copied().unwrap_or(3) as usize;
                 let ours = mesh.face_outer(katachi::FaceId(face));
-                assert_eq!(ours.len(), arity, "{}: face {face} size", row.file);
+                assert_eq!(ours.len(), arity, "{}: face {face} size", file);
                 for (j, v) in ours.iter().enumerate() {
                     let t = tm.indices[k + j] as usize;
                     let p = mesh.position(*v);
@@ -395,7 +469,7 @@ fn obj_models_agree_with_tobj() {
                         assert!(
                             (ours - theirs).abs() <= 1e-6 * ours.abs().max(1.0),
                             "{}: face {face} corner {j}: {ours} vs tobj {theirs}",
-                            row.file
+                            file
                         );
                     }
                 }
@@ -403,7 +477,7 @@ fn obj_models_agree_with_tobj() {
                 face += 1;
             }
         }
-        assert_eq!(face, mesh.face_count(), "{}: face count", row.file);
+        assert_eq!(face, mesh.face_count(), "{}: face count", file);
     }
 }
 
@@ -425,19 +499,32 @@ fn assert_same(a: &PolyMesh, b: &PolyMesh, what: &str) {
     assert_eq!(a.corners(), b.corners(), "{what}: corners");
 }
 
-/// Shared models written in every format read back bit-exact, unreferenced vertices and
-/// n-gons included.
+/// Models written in every format read back bit-exact, unreferenced vertices, n-gons,
+/// components and PLY input included (the corpus's bunny, beast, teapot and PLY).
 #[test]
-fn shared_models_round_trip_in_every_format() {
-    let dir = models_dir();
-    for file in [
+fn models_round_trip_in_every_format() {
+    const TEST: &str = "io_models::models_round_trip_in_every_format";
+    let mut paths: Vec<PathBuf> = [
+        "L.off",
+        "greek_helmet.obj",
+        "rhombicosidodecahedron.obj",
+        "hole_capsule.off",
+    ]
+    .iter()
+    .map(|n| models::bundled(n))
+    .collect();
+    let corpus = [
         "stanford-bunny.obj",
         "beast.obj",
         "teapot.obj",
-        "L.off",
         "two-boxes-bad-self-union.ply",
-    ] {
-        let mesh = io::read(&dir.join(file)).unwrap();
+    ];
+    if let Some(more) = models::corpus_models(TEST, &corpus) {
+        paths.extend(more);
+    }
+    for path in &paths {
+        let file = path.file_name().unwrap().to_string_lossy().into_owned();
+        let mesh = io::read(path).unwrap();
         for (format, enc) in [
             (Format::Obj, PlyEncoding::Ascii),
             (Format::Off, PlyEncoding::Ascii),
@@ -453,8 +540,11 @@ fn shared_models_round_trip_in_every_format() {
                 &WriteOptions::with_ply_encoding(enc),
             )
             .unwrap();
-            let back = io::read_bytes(&buf, format, Path::new(file)).unwrap();
+            let back = io::read_bytes(&buf, format, Path::new(&file)).unwrap();
             assert_same(&mesh, &back, &format!("{file} as {format:?} {enc:?}"));
+        }
+        if corpus.contains(&file.as_str()) {
+            models::ran(TEST, &file);
         }
     }
 }

@@ -81,7 +81,7 @@ fn each_module_uses_only_its_layer() {
         let rel = file.strip_prefix(&src).unwrap();
         let mut parts = rel.iter().map(|p| p.to_string_lossy().into_owned());
         let first = parts.next().unwrap();
-        if first == "bin" || first == "lib.rs" {
+        if first == "lib.rs" {
             continue;
         }
         let module = first.trim_end_matches(".rs").to_string();
@@ -110,4 +110,36 @@ fn the_scan_sees_a_use_in_code_and_not_in_comments() {
     let text = "use crate::subdivide::Refiner; // crate::ffi\n/// [`crate::io`]\nlet x = crate::mesh::shapes::cube(1.0);";
     let found: Vec<String> = uses(text).into_iter().collect();
     assert_eq!(found, ["mesh", "subdivide"]);
+}
+
+#[test]
+fn the_library_depends_on_no_front_end_crate() {
+    // C programs, the Blender add-on and the MeshLab plugin link the library: the CLI's
+    // argument parsing, progress bars and JSON stroke files belong to `cli/` alone.
+    let manifest =
+        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("Cargo.toml")).unwrap();
+    let mut section = String::new();
+    let mut found = Vec::new();
+    for line in manifest.lines() {
+        let t = line.trim();
+        if t.starts_with('[') {
+            section = t.to_string();
+            continue;
+        }
+        let normal = section == "[dependencies]"
+            || (section.starts_with("[target.") && section.ends_with(".dependencies]"));
+        if !normal {
+            continue;
+        }
+        for name in ["clap", "indicatif", "serde_json", "serde"] {
+            if t.split(['=', ' ', '.']).next() == Some(name) {
+                found.push(format!("{section} {t}"));
+            }
+        }
+    }
+    assert!(
+        found.is_empty(),
+        "the library depends on front-end crates:\n{}",
+        found.join("\n")
+    );
 }

@@ -4,6 +4,8 @@
 use katachi::mesh::{inspect, shapes, Topology, TopologyOptions};
 use katachi::{PolyMesh, VertexId};
 
+mod support;
+
 struct Expect {
     v: u32,
     f: u32,
@@ -261,6 +263,7 @@ fn tolerant_build_lists_defects() {
 // Property tests over random polygon soups.
 
 mod props {
+    use crate::support::property::counted_proptest;
     use katachi::mesh::{inspect, LoopId, Topology, TopologyOptions};
     use katachi::{DVec3, Error, HalfedgeId, PolyMesh};
     use proptest::prelude::*;
@@ -312,7 +315,7 @@ mod props {
         assert_eq!(boundary, boundary_hes);
     }
 
-    proptest! {
+    counted_proptest! {
         #![proptest_config(ProptestConfig::with_cases(256))]
 
         /// Valid input always builds, in every constructor, and the tolerant topology keeps
@@ -472,4 +475,19 @@ fn sharpness_attributes() {
     assert!(c.set_face_labels(vec![1; 5]).is_err());
     c.set_face_labels(vec![7; 6]).unwrap();
     assert_eq!(c.face_label(katachi::FaceId(2)), 7);
+}
+
+#[test]
+fn messages_write_huge_numbers_with_an_exponent() {
+    let mut cube = shapes::cube(1.0).unwrap();
+    let e = cube
+        .set_edge_sharpness(VertexId(0), VertexId(1), -1e300)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("sharpness -1e300 is invalid"), "{e}");
+    let e = cube
+        .set_vertex_sharpness(VertexId(0), -2.5)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("sharpness -2.5 is invalid"), "{e}");
 }

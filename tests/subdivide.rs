@@ -131,11 +131,9 @@ fn semi_sharp_crease_row() {
 }
 
 #[test]
-fn input_is_untouched_and_errors_are_typed() {
+fn errors_are_typed() {
+    // (That the input is left unchanged needs no test: `catmull_clark` takes `&PolyMesh`.)
     let cube = shapes::cube(1.0).unwrap();
-    let before = cube.clone();
-    let _ = catmull_clark(&cube, &SubdivideOptions::with_levels(2)).unwrap();
-    assert_eq!(cube, before);
     assert!(catmull_clark(&cube, &SubdivideOptions::with_levels(0)).is_err());
     assert!(catmull_clark(&katachi::PolyMesh::new(), &SubdivideOptions::default()).is_err());
 }

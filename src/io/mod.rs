@@ -3,7 +3,9 @@
 //! Every reader takes the whole file as bytes ([`read_bytes`], or the per-format
 //! `read_bytes`), so the C ABI and tests can read from memory; [`read`] is
 //! `std::fs::read` plus the format's reader. Every writer writes to any [`Write`]
-//! ([`write_to`]), and [`write()`] to a file.
+//! ([`write_to`]), and [`write()`] to a file: into a temporary file beside it, renamed over
+//! it once complete, so a failed write (a full disk, a file-size limit) leaves the old file
+//! as it was ([`write_bytes`] does the same for any bytes).
 //!
 //! What the formats keep:
 //!
@@ -26,13 +28,13 @@
 //!
 //! The readers are written by hand; each module's docs say why no crate does the job.
 
-use std::fs::File;
-use std::io::{BufWriter, Write};
+use std::io::Write;
 use std::path::{Path, PathBuf};
 
 use crate::error::{Error, Result};
 use crate::mesh::PolyMesh;
 
+mod atomic;
 mod build;
 pub mod obj;
 pub mod off;
@@ -140,7 +142,8 @@ pub fn read_bytes(bytes: &[u8], format: Format, path: &Path) -> Result<PolyMesh>
 
 /// Writes `mesh` to `path`; the format comes from the extension (.obj, .ply, .off).
 /// PLY is written binary little-endian. A mesh with holes in a face is refused before
-/// the file is opened (see the module docs).
+/// the file is opened (see the module docs). The file is replaced only once the whole mesh
+/// is written: on any error, a file already at `path` is left as it was.
 pub fn write(path: &Path, mesh: &PolyMesh) -> Result<()> {
     write_with(path, mesh, &WriteOptions::default())
 }
@@ -150,14 +153,19 @@ pub fn write_with(path: &Path, mesh: &PolyMesh, options: &WriteOptions) -> Resul
     let format = Format::from_path(path)?;
     // Refuse what cannot be written before creating (and truncating) the file.
     reject_holes(mesh, format)?;
-    let io_err = |source| Error::Io {
-        path: path.to_path_buf(),
-        source,
-    };
-    let file = File::create(path).map_err(io_err)?;
-    let mut w = BufWriter::with_capacity(1 << 16, file);
-    write_format(&mut w, format, mesh, options, path)?;
-    w.flush().map_err(io_err)
+    atomic::write_file(path, |w| write_format(w, format, mesh, options, path))
+}
+
+/// Writes `bytes` to the file at `path` as [`write()`] writes a mesh: into a temporary file
+/// beside it, renamed over it once complete, so on any error a file already at `path` is
+/// left as it was. For the files front ends write beside meshes (reports, strokes).
+pub fn write_bytes(path: &Path, bytes: &[u8]) -> Result<()> {
+    atomic::write_file(path, |w| {
+        w.write_all(bytes).map_err(|source| Error::Io {
+            path: path.to_path_buf(),
+            source,
+        })
+    })
 }
 
 /// Writes `mesh` in `format` to any writer (a `Vec<u8>`, a socket, a C caller's buffer).

@@ -231,11 +231,11 @@ fn parse_header(bytes: &[u8], path: &Path) -> Result<Header> {
                 let count = text::parse_u64(count_tok).ok_or_else(|| {
                     err(format!(
                         "element '{}': count {} is not a non-negative integer",
-                        String::from_utf8_lossy(name),
+                        text::name(name),
                         show(count_tok)
                     ))
                 })?;
-                let name = String::from_utf8_lossy(name).into_owned();
+                let name = text::name(name);
                 if elements.iter().any(|e| e.name == name) {
                     return Err(err(format!("element '{name}' is declared twice")));
                 }
@@ -269,7 +269,7 @@ fn parse_header(bytes: &[u8], path: &Path) -> Result<Header> {
                     .next()
                     .ok_or_else(|| err("property without a name".into()))?;
                 el.props.push(Property {
-                    name: String::from_utf8_lossy(name).into_owned(),
+                    name: text::name(name),
                     kind,
                 });
             }

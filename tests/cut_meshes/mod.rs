@@ -161,12 +161,12 @@ pub fn view_for(mesh: &PolyMesh, ortho: bool, theta: f64, phi: f64, dist: f64) -
     View::new(proj * look, [0.0, 0.0, 800.0, 600.0])
 }
 
-/// The benchmark's spot: the shared `spot_quadrangulated.obj` subdivided 4 times and
+/// The benchmark's spot: the bundled `spot_quadrangulated.obj` subdivided 4 times and
 /// triangulated (1.5M triangles).
 pub fn spot_l4() -> Result<PolyMesh, String> {
     let path = concat!(
         env!("CARGO_MANIFEST_DIR"),
-        "/../shared/data/models/spot_quadrangulated.obj"
+        "/tests/data/models/spot_quadrangulated.obj"
     );
     let m = katachi::io::read(std::path::Path::new(path)).map_err(|e| e.to_string())?;
     let sub = catmull_clark(&m, &SubdivideOptions::with_levels(4)).map_err(|e| e.to_string())?;

@@ -14,7 +14,7 @@ set -eu
 root=$(cd "$(dirname "$0")/../.." && pwd)
 target=${1:-${CARGO_TARGET_DIR:-$root/target}}
 prefix=$target/meshlab/prefix
-model=$root/../shared/data/models/fandisk_quads.off
+model=$root/tests/data/models/fandisk_quads.off
 for tool in xvfb-run xdotool import; do
     command -v $tool >/dev/null || { echo "screenshot.sh: $tool is missing (apt-get install xvfb xdotool imagemagick)" >&2; exit 1; }
 done
@@ -54,7 +54,7 @@ in_meshlab "$model" '
 '
 echo "wrote $root/docs/images/meshlab_subdivide.png and meshlab_subdivide_result.png"
 
-in_meshlab "$root/../shared/data/models/fandisk.off" '
+in_meshlab "$root/tests/data/models/fandisk.off" '
     xdotool mousemove 905 112 click 1     # katachi: Cut by polyline
     sleep 3
     xdotool mousemove 280 360 click 1     # Stroke

@@ -88,7 +88,14 @@ pub fn run(args: &[&str]) -> Result<(), String> {
 
     let zip = crate::addon::build()?;
     let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
-    run_cmd(Command::new(cargo).args(["build", "--release", "-p", "katachi", "--bin", "katachi"]))?;
+    run_cmd(Command::new(cargo).args([
+        "build",
+        "--release",
+        "-p",
+        "katachi-cli",
+        "--bin",
+        "katachi",
+    ]))?;
     let cli = target_dir().join("release").join("katachi");
 
     let mut summary = Vec::new();

@@ -136,7 +136,15 @@ fn build(versions: Versions) -> Result<Dirs, String> {
     } else {
         (None, None)
     };
-    run_cmd(Command::new(crate::util::cargo()).args(["build", "--release", "-p", "katachi"]))?;
+    // The library the plugin links, and the `katachi` CLI (crate katachi-cli) the tests compare with.
+    run_cmd(Command::new(crate::util::cargo()).args([
+        "build",
+        "--release",
+        "-p",
+        "katachi",
+        "-p",
+        "katachi-cli",
+    ]))?;
     let release = target_dir().join("release");
     let lib = release.join("libkatachi.so");
     if !lib.is_file() {
@@ -491,7 +499,8 @@ fn test_versions(versions: Versions, filter: Option<&str>) -> Result<(), String>
     let dirs = build(versions)?;
     let katachi = dirs.release.join("katachi");
     let lib = dirs.release.join("libkatachi.so");
-    let models = root().join("..").join("shared").join("data").join("models");
+    // The bundled models (tests/data/models): the MeshLab tests need nothing outside the checkout.
+    let models = root().join("tests").join("data").join("models");
     let common = |cmd: &mut Command, work: &Path| {
         cmd.arg("--katachi")
             .arg(&katachi)

@@ -8,6 +8,14 @@
 
 use std::time::{Duration, Instant};
 
+// The test models and the record (tests/support), shared with the root crate's tests.
+#[allow(dead_code)]
+#[path = "../../support/models.rs"]
+mod models;
+#[allow(dead_code)]
+#[path = "../../support/record.rs"]
+mod record;
+
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
 use katachi::mesh::shapes;
 use katachi::subdivide::{catmull_clark, SubdivideOptions};
@@ -41,13 +49,13 @@ fn models() -> Vec<(&'static str, String, PolyMesh)> {
         "torus".to_string(),
         shapes::torus(200, 160, 2.0, 0.5).unwrap(),
     )];
-    let beast = concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../../../shared/data/models/beast.obj"
-    );
-    match katachi::io::read(std::path::Path::new(beast)) {
-        Ok(m) => v.push(("beast.obj", beast.to_string(), m)),
-        Err(e) => eprintln!("beast.obj not benchmarked: {e}"),
+    // beast.obj is in the corpus only (its license does not allow bundling it).
+    match models::corpus_models("subdivide bench", &["beast.obj"]) {
+        Some(paths) => {
+            let m = katachi::io::read(&paths[0]).unwrap_or_else(|e| panic!("{e}"));
+            v.push(("beast.obj", paths[0].to_string_lossy().into_owned(), m));
+        }
+        None => eprintln!("beast.obj not benchmarked: no corpus (set KATACHI_CORPUS)"),
     }
     v
 }

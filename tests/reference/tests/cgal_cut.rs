@@ -1,18 +1,26 @@
 //! Tests of the exact stroke cut (`cgal_stroke_cut`, CGAL 5 constrained Delaunay triangulation
 //! with exact constructions): counts worked out by hand on single triangles, watertightness and
 //! placement of the new vertices on a grid seen in perspective, a hand-checked minimum angle, bad
-//! input; then the baseline figures on the shared models, and katachi's cut compared with them
+//! input; then the baseline figures on fandisk (and the Stanford bunny from the corpus, when
+//! one is given), and katachi's cut compared with them
 //! (issue 5: fewer new triangles, larger minimum angle, paths that follow the exact cut).
 //!
 //! Both tables are printed: `cargo test -p katachi-reference --test cgal_cut -- --nocapture
 //! shared_models katachi_cuts`.
 
 use std::collections::{BTreeMap, BTreeSet};
-use std::path::Path;
 use std::sync::OnceLock;
 use std::time::Instant;
 
 use katachi::DVec3;
+
+// The test models and the record (tests/support), shared with the root crate's tests.
+#[allow(dead_code)]
+#[path = "../../support/models.rs"]
+mod models;
+#[allow(dead_code)]
+#[path = "../../support/record.rs"]
+mod record;
 use katachi_reference::cut_setup::{
     look_at_bounds, model_setup, project, project_w, ref_mesh, triangle_min_angle_deg, Projection,
 };
@@ -535,15 +543,17 @@ fn bad_input_is_an_error() {
 // ---------------------------------------------------------------------------------------------
 // Baseline on the shared models, and katachi's cut against it
 
-fn shared_model(name: &str) -> Option<katachi::PolyMesh> {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../../shared/data/models")
-        .join(name);
-    if !path.is_file() {
-        eprintln!("skipping {name}: {} is missing", path.display());
-        return None;
+/// The models the baseline cuts: fandisk (bundled) always, the Stanford bunny when a corpus
+/// is given (its license does not allow bundling it; without a corpus its cuts are recorded
+/// as not run).
+fn cut_models() -> Vec<(&'static str, katachi::PolyMesh)> {
+    let mut v = vec![("fandisk.off", models::read_bundled("fandisk.off"))];
+    if let Some(paths) = models::corpus_models("cgal_cut::shared_cuts", &["stanford-bunny.obj"]) {
+        let m = katachi::io::read(&paths[0]).unwrap_or_else(|e| panic!("{e}"));
+        models::ran("cgal_cut::shared_cuts", "stanford-bunny.obj");
+        v.insert(0, ("stanford-bunny.obj", m));
     }
-    Some(katachi::io::read(&path).unwrap_or_else(|e| panic!("reading {name}: {e}")))
+    v
 }
 
 /// One shared model seen one way, with the exact cut of its [`model_setup`] stroke.
@@ -564,10 +574,7 @@ fn shared_cuts() -> &'static [SharedCut] {
     static CUTS: OnceLock<Vec<SharedCut>> = OnceLock::new();
     CUTS.get_or_init(|| {
         let mut out = Vec::new();
-        for name in ["stanford-bunny.obj", "fandisk.off"] {
-            let Some(model) = shared_model(name) else {
-                continue;
-            };
+        for (name, model) in cut_models() {
             let mesh = ref_mesh(&model).unwrap();
             assert!(
                 mesh.face_sizes.iter().all(|&n| n == 3),

@@ -11,6 +11,14 @@ use katachi::subdivide::{catmull_clark, BoundaryInterpolation, CreaseMethod, Sub
 use katachi::{DVec3, PolyMesh, VertexId};
 use katachi_reference as r;
 
+// The test models and the record (tests/support), shared with the root crate's tests.
+#[allow(dead_code)]
+#[path = "../../support/models.rs"]
+mod models;
+#[allow(dead_code)]
+#[path = "../../support/record.rs"]
+mod record;
+
 fn to_ref(mesh: &PolyMesh) -> (r::RefMesh, r::Creases) {
     let m = r::RefMesh {
         positions: mesh.positions().iter().map(|p| p.to_array()).collect(),
@@ -193,50 +201,72 @@ fn non_manifold_fan_matches_opensubdiv() {
     assert!(o.is_err(), "OpenMesh rejects a complex edge");
 }
 
-fn models() -> std::path::PathBuf {
-    let d = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data/models");
-    assert!(
-        d.is_dir(),
-        "the shared models are missing: {} (CI has ../shared beside the checkout)",
-        d.display()
-    );
-    d
-}
-
-#[test]
-fn shared_models_match_opensubdiv() {
-    // Every shared model OpenSubdiv accepts, levels 1 to 3.
-    let d = models();
-    let mut compared = 0;
-    let mut entries: Vec<_> = std::fs::read_dir(&d)
+/// The model files (by extension) in `dir`, sorted.
+fn model_files(dir: &std::path::Path) -> Vec<std::path::PathBuf> {
+    let mut v: Vec<_> = std::fs::read_dir(dir)
         .unwrap()
         .map(|e| e.unwrap().path())
+        .filter(|p| katachi::io::Format::from_path(p).is_ok())
         .collect();
-    entries.sort();
-    for path in entries {
-        let Ok(mesh) = katachi::io::read(&path) else {
-            continue;
-        };
+    v.sort();
+    v
+}
+
+/// Compares every model in `dir` that OpenSubdiv accepts, levels 1 to 3; returns how many
+/// were compared. A model OpenSubdiv refuses must be refused or handled by katachi without a
+/// panic; a model with faces with holes (OpenSubdiv has none) is counted apart.
+fn compare_folder(dir: &std::path::Path, corpus: bool) -> (usize, usize) {
+    const TEST: &str = "katachi_vs_osd::models_match_opensubdiv";
+    let (mut compared, mut refused) = (0, 0);
+    for path in model_files(dir) {
         let name = path.file_name().unwrap().to_string_lossy().into_owned();
+        let mesh = katachi::io::read(&path).unwrap_or_else(|e| panic!("{e}"));
+        assert!(
+            mesh.faces().all(|f| mesh.face_loop_count(f) == 1),
+            "{name}: a file format holds no faces with holes"
+        );
         let (rm, rc) = to_ref(&mesh);
-        if mesh.faces().any(|f| mesh.face_loop_count(f) > 1) {
-            continue;
-        }
         let osd_ok = r::osd_catmark(&rm, &rc, &r::OsdOptions::default(), 1).is_ok();
-        if !osd_ok {
+        if osd_ok {
+            compare(&name, &mesh, &SubdivideOptions::default(), 3);
+            println!("{name}: matches OpenSubdiv at levels 1-3");
+            compared += 1;
+        } else {
             // OpenSubdiv refuses it; katachi must then refuse or handle it without panicking.
             let ours = catmull_clark(&mesh, &SubdivideOptions::default());
             println!(
                 "{name}: OpenSubdiv refuses it; katachi: {:?}",
                 ours.map(|o| o.mesh.face_count())
             );
-            continue;
+            refused += 1;
         }
-        compare(&name, &mesh, &SubdivideOptions::default(), 3);
-        println!("{name}: matches OpenSubdiv at levels 1-3");
-        compared += 1;
+        if corpus {
+            models::ran(TEST, &name);
+        }
     }
-    assert!(compared >= 15, "only {compared} models compared");
+    (compared, refused)
+}
+
+#[test]
+fn models_match_opensubdiv() {
+    let bundled = models::bundled_dir();
+    let n = model_files(&bundled).len();
+    let (compared, refused) = compare_folder(&bundled, false);
+    assert_eq!(
+        (compared, refused),
+        (n, 0),
+        "every bundled model is a valid Catmull-Clark cage"
+    );
+    match models::corpus() {
+        Some(dir) => {
+            let (compared, _) = compare_folder(&dir, true);
+            assert!(compared >= 15, "only {compared} corpus models compared");
+        }
+        None => models::not_run(
+            "katachi_vs_osd::models_match_opensubdiv",
+            "every corpus model",
+        ),
+    }
 }
 
 #[test]

@@ -238,11 +238,9 @@ fn read_text(path: &Path) -> Result<String, Error> {
     })
 }
 
+/// Written as meshes are: a failed write leaves a file already there as it was.
 fn write_text(path: &Path, text: &str) -> Result<(), Error> {
-    std::fs::write(path, text).map_err(|source| Error::Io {
-        path: path.to_path_buf(),
-        source,
-    })
+    io::write_bytes(path, text.as_bytes())
 }
 
 /// The kernel's options for `mode` and `open`, the rest at their defaults.
@@ -403,15 +401,15 @@ pub fn run(args: &Args) -> Result<(), Error> {
     let mesh = io::read(&args.input)?;
     let out = cut(&mesh, &file, &options)?;
     io::write(&args.output, &out.mesh)?;
-    println!(
+    crate::out::line(format!(
         "cut {} along {} stroke points ({}{})",
         args.input.display(),
         file.stroke.len(),
         mode.name(),
         if open { ", opened" } else { "" }
-    );
+    ))?;
     for line in summary(&out, mesh.face_count()) {
-        println!("{line}");
+        crate::out::line(line)?;
     }
     if let Some(path) = &args.report {
         let mut text =
@@ -419,13 +417,13 @@ pub fn run(args: &Args) -> Result<(), Error> {
                 .expect("a JSON value always serializes");
         text.push('\n');
         write_text(path, &text)?;
-        println!("wrote the report to {}", path.display());
+        crate::out::line(format!("wrote the report to {}", path.display()))?;
     }
-    println!(
+    crate::out::line(format!(
         "wrote {} ({} vertices, {} faces)",
         args.output.display(),
         out.mesh.vertex_count(),
         out.mesh.face_count()
-    );
+    ))?;
     Ok(())
 }

@@ -92,7 +92,9 @@ pub fn run(args: &Args) -> Result<(), Error> {
         b.finish_and_clear();
     }
     for (f, why) in &out.report.fell_back_to_sharp {
-        eprintln!("note: face {f}: method [a] could not bridge it ({why}); method [b] was used");
+        crate::out::note(format!(
+            "note: face {f}: method [a] could not bridge it ({why}); method [b] was used"
+        ));
     }
     let holes = out
         .mesh
@@ -101,20 +103,20 @@ pub fn run(args: &Args) -> Result<(), Error> {
         .count();
     let mesh = if holes > 0 {
         // OBJ, PLY and OFF store no faces with holes: cut them along their bridges.
-        eprintln!(
+        crate::out::note(format!(
             "note: {holes} faces with holes written as simple polygons cut along bridge edges"
-        );
+        ));
         split_faces_with_holes(&out.mesh)?.0
     } else {
         out.mesh
     };
     io::write(&args.output, &mesh)?;
-    println!(
+    crate::out::line(format!(
         "wrote {} ({} vertices, {} faces, {} levels)",
         args.output.display(),
         mesh.vertex_count(),
         mesh.face_count(),
         args.levels
-    );
+    ))?;
     Ok(())
 }

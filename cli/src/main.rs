@@ -1,5 +1,7 @@
 //! `katachi`: the command-line front end. Reads and writes OBJ/PLY/OFF by extension.
 //! Bad input prints one line `error: …` and exits with status 2; no panic reaches the user.
+//! The exit status is 0 or 2, nothing else: a usage error, an I/O error on stdout (a closed
+//! pipe, a full disk) and a bug caught at the top are all 2.
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -10,6 +12,7 @@ use katachi::{io, Error};
 
 mod cut;
 mod demo;
+mod out;
 mod subdivide;
 
 #[derive(Parser)]
@@ -47,14 +50,18 @@ enum Command {
 }
 
 fn main() -> ExitCode {
-    let cli = Cli::parse();
+    ignore_file_size_signal();
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e) => return usage(e),
+    };
     // A panic is a bug; report it in one line rather than with a backtrace.
     std::panic::set_hook(Box::new(|_| {}));
-    let result = std::panic::catch_unwind(|| run(cli.command));
+    let result = std::panic::catch_unwind(|| run(cli.command).and_then(|()| out::flush()));
     match result {
         Ok(Ok(())) => ExitCode::SUCCESS,
         Ok(Err(e)) => {
-            eprintln!("error: {e}");
+            out::note(format!("error: {e}"));
             ExitCode::from(2)
         }
         Err(panic) => {
@@ -63,9 +70,39 @@ fn main() -> ExitCode {
                 .map(|s| s.to_string())
                 .or_else(|| panic.downcast_ref::<String>().cloned())
                 .unwrap_or_else(|| "unknown panic".into());
-            eprintln!("error: {}", Error::Internal(msg));
+            out::note(format!("error: {}", Error::Internal(msg)));
             ExitCode::from(2)
         }
+    }
+}
+
+/// `--help` and `--version` on stdout (status 0, or 2 when stdout fails); a usage error on
+/// stderr with status 2.
+fn usage(e: clap::Error) -> ExitCode {
+    use clap::error::ErrorKind;
+    if matches!(e.kind(), ErrorKind::DisplayHelp | ErrorKind::DisplayVersion) {
+        let text = e.to_string();
+        let printed = std::io::Write::write_all(&mut std::io::stdout().lock(), text.as_bytes())
+            .and_then(|()| std::io::Write::flush(&mut std::io::stdout()));
+        return match printed {
+            Ok(()) => ExitCode::SUCCESS,
+            Err(source) => {
+                out::note(format!("error: <stdout>: {source}"));
+                ExitCode::from(2)
+            }
+        };
+    }
+    let _ = e.print();
+    ExitCode::from(2)
+}
+
+/// Writing past a file-size limit (`ulimit -f`) then fails with an error katachi reports,
+/// instead of the SIGXFSZ signal killing the process with a status other than 0 or 2.
+fn ignore_file_size_signal() {
+    #[cfg(unix)]
+    // SAFETY: setting a signal's disposition to SIG_IGN touches no memory of ours.
+    unsafe {
+        libc::signal(libc::SIGXFSZ, libc::SIG_IGN);
     }
 }
 
@@ -74,19 +111,20 @@ fn run(command: Command) -> Result<(), Error> {
         Command::Info { file } => {
             let mesh = io::read(&file)?;
             let report = inspect(&mesh)?;
-            print!("{}", format_report(&file, &report));
+            for l in format_report(&file, &report).lines() {
+                out::line(l)?;
+            }
             Ok(())
         }
         Command::Convert { input, output } => {
             let mesh = io::read(&input)?;
             io::write(&output, &mesh)?;
-            println!(
+            out::line(format!(
                 "wrote {} ({} vertices, {} faces)",
                 output.display(),
                 mesh.vertex_count(),
                 mesh.face_count()
-            );
-            Ok(())
+            ))
         }
         Command::Subdivide(args) => subdivide::run(&args),
         Command::Cut(args) => cut::run(&args),

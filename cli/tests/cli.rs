@@ -18,7 +18,7 @@ fn tmp(name: &str) -> PathBuf {
 
 fn example(name: &str) -> String {
     Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("examples/models")
+        .join("../examples/models")
         .join(name)
         .to_string_lossy()
         .into_owned()

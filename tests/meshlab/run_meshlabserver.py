@@ -123,7 +123,7 @@ def main():
     kat = Katachi(args.lib)
 
     run.case("self_test", lambda: cases.self_test(run))
-    for name, path, opts in cases.subdivision_cases(args.models, args.work, kat):
+    for name, path, opts in cases.subdivision_cases(args.models, args.work, kat, "off"):
         run.case(name, lambda name=name, path=path, opts=opts:
                  subdivision(run, args, kat, name, path, opts))
     for name, (positions, faces), opts, message in cases.BAD_SUBDIVISIONS:

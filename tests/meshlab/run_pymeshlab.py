@@ -131,7 +131,7 @@ def main():
     run.case("parameters", parameters)
 
     models = args.models
-    for name, path, opts in cases.subdivision_cases(models, work, kat):
+    for name, path, opts in cases.subdivision_cases(models, work, kat, "obj"):
         run.case(name, lambda name=name, path=path, opts=opts:
                  subdivision(run, args, kat, name, path, opts))
     tet = cases.BAD_SUBDIVISIONS[-1][1]

@@ -13,9 +13,9 @@
 //! 2. `cargo build --release -p katachi` (the library the plugin links, the CLI the tests
 //!    compare with);
 //! 3. for 2025.07, `pymeshlab==2025.7.post1` from PyPI into the venv `<target>/pymeshlab-venv`
-//!    (made once with `python3.11 -m venv`, about 90 MB; reused): its `lib/` holds MeshLab
-//!    2025.07's `libmeshlab-common.so` (built with double scalars) and Qt 5.15.2, which the
-//!    plugin links;
+//!    (made once with `python3.11 -m venv`, a 106 MB wheel and numpy, 380 MB installed;
+//!    reused): its `lib/` holds MeshLab 2025.07's `libmeshlab-common.so` (built with double
+//!    scalars) and Qt 5.15.2, which the plugin links;
 //! 4. CMake in `<target>/meshlab/build-2020.09` (with the harness) and `build-2025.07`.
 //!
 //! Test (`--test`, and `cargo xtask test`):
@@ -424,7 +424,7 @@ fn pymeshlab_python() -> Result<PathBuf, String> {
         })?;
     }
     eprintln!(
-        "xtask: meshlab-plugin: installing {PYMESHLAB} into {} (once; about 90 MB)",
+        "xtask: meshlab-plugin: installing {PYMESHLAB} into {} (once; a 106 MB wheel)",
         venv.display()
     );
     run_cmd(Command::new(&python).args([

@@ -192,33 +192,29 @@ class Subdivision:
         return a
 
 
-def triangulated(mesh):
-    """Each face split into a fan of triangles (what a triangle mesh file would hold)."""
-    return Mesh(mesh.positions,
-                [[f[0], f[k], f[k + 1]] for f in mesh.faces for k in range(1, len(f) - 1)])
-
-
 def subdivision_cases(models, work, kat, ngon_format):
-    """(name, input path, options): the repository's models (examples/models) and a
-    triangulated plate with a hole, so no corpus is needed. `ngon_format` is the file format
-    the host reads n-gons (5 corners and more) correctly from: "off" for MeshLab 2020.09,
-    whose OBJ reader asserts on some files; "obj" for MeshLab 2025.07, whose OFF reader
-    builds every such polygon's triangles on the mesh's first vertices (vcglib's
-    import_off.h passes the polygon's own corner numbers to AddFace)."""
+    """(name, input path, options): the bundled models (tests/data/models) and a triangulated
+    plate with a hole, so no corpus is needed. `ngon_format` is the file format the host
+    reads n-gons (5 corners and more) correctly from: "off" for MeshLab 2020.09, whose OBJ
+    reader asserts on some files; "obj" for MeshLab 2025.07, whose OFF reader builds every
+    such polygon's triangles on the mesh's first vertices (vcglib's import_off.h passes the
+    polygon's own corner numbers to AddFace)."""
     m = lambda name: os.path.join(models, name)
     plate = os.path.join(work, "plate_with_hole.off")
     kat.write(plate_with_hole(), plate)
-    # fandisk as triangles (a CAD part's triangle mesh: creases from the feature angle).
-    fandisk_tris = os.path.join(work, "fandisk_triangles.off")
-    kat.write(triangulated(kat.read(m("fandisk_quads.off"))), fandisk_tris)
-    # Triangles, squares and pentagons, written by katachi in the host's format; the CLI reads
-    # the same file.
+    # MeshLab 2020.09's OBJ reader aborts on spot_quadrangulated.obj (an assertion in vcg's
+    # import_obj.h), so both sides read the same mesh converted to OFF by katachi.
+    spot = os.path.join(work, "spot_quadrangulated.off")
+    kat.write(kat.read(m("spot_quadrangulated.obj")), spot)
+    # Triangles, squares and pentagons, written by katachi in the host's format; the CLI
+    # reads the same file.
     ngons = os.path.join(work, f"rhombicosidodecahedron.{ngon_format}")
     kat.write(kat.read(m("rhombicosidodecahedron.obj")), ngons)
     return [
-        ("fandisk_triangles_feature30", fandisk_tris, Subdivision(feature_angle=30.0)),
+        ("fandisk_feature30", m("fandisk.off"), Subdivision(feature_angle=30.0)),
         ("fandisk_quads_l2_inplace", m("fandisk_quads.off"),
          Subdivision(levels=2, new_layer=False)),
+        ("spot_quads", spot, Subdivision()),
         ("rhombicosidodecahedron_ngons_l2", ngons, Subdivision(levels=2)),
         ("hole_capsule_l2_corner", m("hole_capsule.off"),
          Subdivision(levels=2, edge_and_corner=True)),
@@ -354,12 +350,12 @@ def bounding_box(positions):
 
 
 def cut_cases(models, work, kat):
-    """The cuts: a grid seen from above (orthographic, opened) and fandisk (triangulated)
-    seen obliquely (perspective; visible only in a new layer, through all in place). Also returns the grid
+    """The cuts: a grid seen from above (orthographic, opened) and fandisk seen obliquely
+    (perspective; visible only in a new layer, through all in place). Also returns the grid
     path, the top camera and the grid's stroke for the bad cuts."""
     grid_path = os.path.join(work, "grid_10.off")
     kat.write(grid(10), grid_path)
-    fandisk = rounded_to_f32(triangulated(kat.read(os.path.join(models, "fandisk_quads.off"))))
+    fandisk = rounded_to_f32(kat.read(os.path.join(models, "fandisk.off")))
     fandisk_path = os.path.join(work, "fandisk_f32.off")
     kat.write(fandisk, fandisk_path)
     top = Camera([5.0, 5.0, 10.0], [5.0, 5.0, 0.0], [0.0, 1.0, 0.0], True)

@@ -174,6 +174,9 @@ pub enum Error {
     /// The file extension names no format katachi reads or writes.
     #[error("{path}: unknown file format (use .obj, .ply or .off)")]
     UnknownFormat { path: PathBuf },
+    /// Curved meshing (seed 000) rejected its input or ran out of budget.
+    #[error(transparent)]
+    Curved(#[from] crate::curved::CurvedError),
     /// A bug in katachi.
     #[error("internal error: {0} (this is a bug in katachi; please report it)")]
     Internal(String),

@@ -16,6 +16,7 @@
 //! assert_eq!(topo.euler_characteristic(&cube), 2);
 //! ```
 
+pub mod curved;
 pub mod cut;
 pub mod error;
 pub mod ffi;

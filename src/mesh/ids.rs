@@ -52,3 +52,6 @@ id_type!(
     /// A loop (outer boundary or hole) of a face, numbered across the whole mesh.
     LoopId
 );
+
+// Other modules (curved meshing) declare their own handles with the same macro.
+pub(crate) use id_type;

@@ -52,6 +52,10 @@ pub const PACKAGES: &[(&str, &str)] = &[
         "clang's resource headers (stddef.h, stdint.h) for bindgen in tests/reference",
     ),
     (
+        "libgmsh-dev",
+        "Gmsh 4.8 (C API gmshc.h + libgmsh): the peer for curved meshing in tests/reference (BAMG anisotropic mesher, AnalyseMeshQuality Jacobian check)",
+    ),
+    (
         "blender",
         "Blender 3.4, where the add-on's tests run headless (cargo xtask blender-test)",
     ),

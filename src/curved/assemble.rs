@@ -9,13 +9,14 @@
 //! Lagrange nodes are interpolation points, not control points). Every node is mapped to
 //! the surface as `P(u, v)`, so elements of order ≥ 2 follow the surface and stay conforming.
 
-use std::collections::HashMap;
-
 use glam::DVec2;
 use rayon::prelude::*;
 
-use super::domain::{Domain, VertexKind};
-use super::element::{lagrange_layout, lagrange_to_bezier, BezierTriangle};
+use super::bisect::piece_constraints;
+use super::domain::Domain;
+use super::element::{
+    collocation_inverse, control_points, lagrange_layout, optimize_interior, ray_map, BezierTriangle,
+};
 use super::input::{CurveId, PatchId, RegionId};
 use super::output::{CurvedEdge, ElementInfo, ElementKind, ElementQuality};
 use super::quality::{scaled_jacobian, Measure};
@@ -30,6 +31,8 @@ pub(crate) struct Assembly {
     pub node_patch: Vec<PatchId>,
     pub elements: Vec<u32>,
     pub info: Vec<ElementInfo>,
+    /// [`collocation_inverse`] of the order.
+    inv: Vec<Vec<f64>>,
 }
 
 /// What one element needs measured, gathered before the parallel measuring pass.
@@ -43,6 +46,7 @@ impl Assembly {
         Assembly {
             order,
             layout: lagrange_layout(order),
+            inv: collocation_inverse(order),
             nodes_uv: Vec::new(),
             node_patch: Vec::new(),
             elements: Vec::new(),
@@ -62,10 +66,11 @@ impl Assembly {
         let patch = PatchId(d.metric.patch_id);
         let tr = &d.tr;
         let mut vnode = vec![NONE; tr.vertex_count()];
-        let mut edge_nodes: HashMap<(u32, u32), u32> = HashMap::new();
-        let mut piece_nodes: HashMap<u32, u32> = HashMap::new();
+        // Per half-edge: the first of its edge's q − 1 nodes, placed from the lower vertex id.
+        let mut edge_start = vec![NONE; 3 * tr.triangle_slots()];
         let mut pending: Vec<Pending> = Vec::new();
         let first_element = self.info.len();
+        let layout = std::mem::take(&mut self.layout);
 
         // Straight elements: the live triangles, in slot order.
         for t in 0..tr.triangle_slots() as u32 {
@@ -74,11 +79,11 @@ impl Assembly {
             }
             let v = tr.tri(t);
             let p = v.map(|i| tr.pos[i as usize]);
-            let mut nodes = Vec::with_capacity(self.layout.len());
-            for &[a, b] in &self.layout.clone() {
-                nodes.push(self.lattice_node(d, &mut vnode, &mut edge_nodes, v, [a, b], &p, patch));
+            let halves = [3 * t, 3 * t + 1, 3 * t + 2];
+            for &[a, b] in &layout {
+                let n = self.lattice_node(d, &mut vnode, &mut edge_start, v, halves, [a, b], &p, patch);
+                self.elements.push(n);
             }
-            self.elements.extend(nodes);
             self.info.push(ElementInfo {
                 patch,
                 region: RegionId(tr.region[t as usize]),
@@ -90,7 +95,7 @@ impl Assembly {
             pending.push(Pending::Straight(p, v.map(|i| tr.metric[i as usize])));
         }
 
-        // Curved elements: every live piece, on each side that bounds a region.
+        // Curved elements: every live curved piece, on each side that bounds a region.
         for (id, piece) in d.guarded.pieces.iter().enumerate() {
             let Some(piece) = piece else { continue };
             if piece.is_linear() {
@@ -99,48 +104,41 @@ impl Assembly {
             let id = id as u32;
             let [p0, pd, gl, gr] = d.piece_verts[id as usize];
             let regions = d.curve_regions[piece.curve as usize];
+            let cons = piece_constraints(d, id);
+            let mut curve_start = NONE;
             for (side, (g, region)) in [(gl, regions[0]), (gr, regions[1])].into_iter().enumerate() {
                 if region == NONE || g == NONE {
                     continue;
                 }
                 let reversed = side == 1;
                 let v = if reversed { [pd, p0, g] } else { [p0, pd, g] };
-                let ctrl: Vec<DVec2> = if reversed {
-                    piece.ctrl.points().iter().rev().copied().collect()
-                } else {
-                    piece.ctrl.points().to_vec()
-                };
-                let tri = BezierTriangle::guarding(&ctrl, tr.pos[g as usize]);
+                let (uv, _) = curved_nodes(d, id, side == 1, q, &self.inv);
                 let p = v.map(|i| tr.pos[i as usize]);
-                let mut nodes = Vec::with_capacity(self.layout.len());
-                for &[a, b] in &self.layout.clone() {
+                // Edge v₁ → v₂ lies on the chain's second guard edge, v₂ → v₀ on its first.
+                let halves = [
+                    NONE,
+                    tr.constraints[cons[2 * side + 1] as usize].half,
+                    tr.constraints[cons[2 * side] as usize].half,
+                ];
+                for (k, &[a, b]) in layout.iter().enumerate() {
                     let n = if b == 0 && a > 0 && a < q {
-                        // The curved edge v₀ → v₁: the piece's own nodes.
-                        let start = *piece_nodes.entry(id).or_insert_with(|| {
-                            let s = self.nodes_uv.len() as u32;
-                            for k in 1..q {
-                                self.node(piece.ctrl.eval(k as f64 / q as f64), patch);
+                        // The curved edge v₀ → v₁: the piece's own nodes, c(k/q) by de Casteljau.
+                        if curve_start == NONE {
+                            curve_start = self.nodes_uv.len() as u32;
+                            for j in 1..q {
+                                self.node(piece.ctrl.eval(j as f64 / q as f64), patch);
                             }
-                            s
-                        });
-                        let k = if reversed { q - a } else { a };
-                        start + k - 1
+                        }
+                        let j = if reversed { q - a } else { a };
+                        curve_start + j - 1
                     } else if b == 0 || a + b == q || a == 0 {
-                        self.lattice_node(d, &mut vnode, &mut edge_nodes, v, [a, b], &p, patch)
+                        self.lattice_node(d, &mut vnode, &mut edge_start, v, halves, [a, b], &p, patch)
                     } else {
-                        let uv = tri.eval(a as f64 / q as f64, b as f64 / q as f64);
-                        self.node(uv, patch)
+                        self.node(uv[k], patch)
                     };
-                    nodes.push(n);
+                    self.elements.push(n);
                 }
-                // The output element is the order-q interpolant of the Bézier triangle.
-                let uv: Vec<DVec2> = nodes.iter().map(|&n| self.nodes_uv[n as usize]).collect();
-                let out_tri = if q >= tri.degree {
-                    tri.clone()
-                } else {
-                    lagrange_to_bezier(q, &uv)
-                };
-                self.elements.extend(nodes);
+                let out_tri = control_points(q, &uv, &self.inv);
                 self.info.push(ElementInfo {
                     patch,
                     region: RegionId(region),
@@ -157,6 +155,7 @@ impl Assembly {
                 pending.push(Pending::Curved(out_tri, p, v.map(|i| tr.metric[i as usize])));
             }
         }
+        self.layout = layout;
 
         let measured: Vec<ElementQuality> = pending
             .par_iter()
@@ -174,21 +173,22 @@ impl Assembly {
         }
     }
 
-    /// The node at lattice point `(a, b)` of a straight-edged position: a corner, a node on
-    /// an edge (shared by key), or an interior node of the flat triangle.
+    /// The node at lattice point `(a, b)` of an element with corners `v` whose edges
+    /// `v₀v₁, v₁v₂, v₂v₀` lie on half-edges `halves`: a corner, a node on an edge (shared
+    /// through the half-edge and its twin), or an interior node of the flat triangle.
     #[allow(clippy::too_many_arguments)]
     fn lattice_node(
         &mut self,
         d: &Domain,
         vnode: &mut [u32],
-        edge_nodes: &mut HashMap<(u32, u32), u32>,
+        edge_start: &mut [u32],
         v: [u32; 3],
+        halves: [u32; 3],
         [a, b]: [u32; 2],
         p: &[DVec2; 3],
         patch: PatchId,
     ) -> u32 {
         let q = self.order;
-        // Which corner or edge the lattice point lies on.
         let corner = match (a, b) {
             (0, 0) => Some(0),
             (x, 0) if x == q => Some(1),
@@ -202,28 +202,39 @@ impl Assembly {
             }
             return vnode[vid as usize];
         }
-        // Edge (from, to, position k along from → to).
+        // Edge index, and position k along it from its first corner.
         let edge = if b == 0 {
-            Some((v[0], v[1], a))
+            Some((0, a))
         } else if a + b == q {
-            Some((v[1], v[2], b))
+            Some((1, b))
         } else if a == 0 {
-            Some((v[2], v[0], q - b))
+            Some((2, q - b))
         } else {
             None
         };
-        if let Some((x, y, k)) = edge {
+        if let Some((e, k)) = edge {
+            let (x, y) = (v[e], v[(e + 1) % 3]);
             let (lo, hi) = (x.min(y), x.max(y));
-            let start = *edge_nodes.entry((lo, hi)).or_insert_with(|| {
-                let s = self.nodes_uv.len() as u32;
-                let (pl, ph) = (d.tr.pos[lo as usize], d.tr.pos[hi as usize]);
-                for j in 1..q {
-                    let t = j as f64 / q as f64;
-                    self.nodes_uv.push(pl + t * (ph - pl));
-                    self.node_patch.push(patch);
+            let h = halves[e];
+            let mut start = edge_start[h as usize];
+            if start == NONE {
+                let g = d.tr.twin[h as usize];
+                if g != NONE && edge_start[g as usize] != NONE {
+                    start = edge_start[g as usize];
+                } else {
+                    start = self.nodes_uv.len() as u32;
+                    let (pl, ph) = (d.tr.pos[lo as usize], d.tr.pos[hi as usize]);
+                    for j in 1..q {
+                        let t = j as f64 / q as f64;
+                        self.nodes_uv.push(pl + t * (ph - pl));
+                        self.node_patch.push(patch);
+                    }
+                    if g != NONE {
+                        edge_start[g as usize] = start;
+                    }
                 }
-                s
-            });
+                edge_start[h as usize] = start;
+            }
             let j = if x == lo { k } else { q - k };
             return start + j - 1;
         }
@@ -245,8 +256,51 @@ fn empty_quality() -> ElementQuality {
     }
 }
 
-/// Whether vertex kind `k` is output (every kind but the enclosing triangle's corners).
-#[allow(dead_code)]
-pub(crate) fn is_output(k: VertexKind) -> bool {
-    k != VertexKind::Outer
+/// The uv nodes (in [`lagrange_layout`] order) of the curved element of piece `id` on one
+/// side, and the smallest Bézier coefficient of its `det DF` (> 0: valid). Corner and edge
+/// nodes are computed exactly as the shared nodes are (curve points by de Casteljau on the
+/// piece, straight-edge points from the lower vertex id), so the values agree bit for bit;
+/// interior nodes start on the ray map and are placed by [`optimize_interior`].
+pub(crate) fn curved_nodes(d: &Domain, id: u32, right: bool, q: u32, inv: &[Vec<f64>]) -> (Vec<DVec2>, f64) {
+    let piece = d.guarded.piece(id);
+    let [p0, pd, gl, gr] = d.piece_verts[id as usize];
+    let g = if right { gr } else { gl };
+    let v = if right { [pd, p0, g] } else { [p0, pd, g] };
+    let pos = |i: u32| d.tr.pos[i as usize];
+    let apex = pos(g);
+    let oriented = if right { piece.ctrl.reversed() } else { piece.ctrl.clone() };
+    let layout = lagrange_layout(q);
+    let mut nodes: Vec<DVec2> = layout
+        .iter()
+        .map(|&[a, b]| {
+            let (xi, eta) = (a as f64 / q as f64, b as f64 / q as f64);
+            if a == 0 && b == 0 {
+                pos(v[0])
+            } else if b == 0 && a == q {
+                pos(v[1])
+            } else if a == 0 && b == q {
+                pos(v[2])
+            } else if b == 0 {
+                let j = if right { q - a } else { a };
+                piece.ctrl.eval(j as f64 / q as f64)
+            } else if a + b == q || a == 0 {
+                let (x, y, k) = if a == 0 { (v[2], v[0], q - b) } else { (v[1], v[2], b) };
+                let (lo, hi) = (x.min(y), x.max(y));
+                let j = if x == lo { k } else { q - k };
+                let t = j as f64 / q as f64;
+                pos(lo) + t * (pos(hi) - pos(lo))
+            } else {
+                ray_map(&oriented, apex, xi, eta)
+            }
+        })
+        .collect();
+    let m = if q >= 3 {
+        optimize_interior(q, &mut nodes, inv)
+    } else {
+        control_points(q, &nodes, inv)
+            .jacobian_coefficients()
+            .into_iter()
+            .fold(f64::INFINITY, f64::min)
+    };
+    (nodes, m)
 }

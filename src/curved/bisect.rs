@@ -53,6 +53,7 @@ pub(crate) fn bisect(d: &mut Domain, id: u32) -> Result<Bisected, Error> {
     }
     let old_cons = piece_constraints(d, id);
     let old_chains = [d.chain(id, false), d.chain(id, true)];
+    let old_depth = d.guarded.piece(id).depth;
     let curve = d.guarded.piece(id).curve;
     let sides = d.curve_regions[curve as usize];
     // Split until the new pieces' envelopes meet no other envelope and their chain vertices
@@ -77,6 +78,9 @@ pub(crate) fn bisect(d: &mut Domain, id: u32) -> Result<Bisected, Error> {
                         continue;
                     }
                     if !(orient(pa, pg, q) < 0.0 && orient(pg, pb, q) < 0.0) {
+                        if std::env::var_os("KATACHI_CURVED_TRACE").is_some() {
+                            eprintln!("bisect {id} (depth {old_depth}): new piece {n} depth {} point {q:?} not inside old chain {pa:?} {pg:?} {pb:?}; ctrl {:?}", p.depth, p.ctrl.points());
+                        }
                         bad = Some(n);
                         break 'pieces;
                     }
@@ -88,6 +92,9 @@ pub(crate) fn bisect(d: &mut Domain, id: u32) -> Result<Bisected, Error> {
                     continue;
                 }
                 if envelopes_meet(&e, &o.envelope()) {
+                    if std::env::var_os("KATACHI_CURVED_TRACE").is_some() {
+                        eprintln!("bisect {id}: new piece {n} (depth {}) meets piece {j} (curve {}, depth {})", p.depth, o.curve, o.depth);
+                    }
                     bad = Some(n);
                     break 'pieces;
                 }

@@ -192,6 +192,134 @@ pub(crate) fn lagrange_to_bezier(q: u32, nodes: &[DVec2]) -> BezierTriangle {
     BezierTriangle { degree: q, points: rhs }
 }
 
+/// The guarding triangle as a ray map from the apex (Coons-like, [DESIGN]):
+/// `F(ξ, η) = η o + (1 − η) c(ξ / (1 − η))`, the segment from each curve point to the apex.
+/// It is a valid parametrization whenever the apex sees the whole curve (a guard does), and
+/// on the straight edges it is linear, so its values make good starting interior nodes.
+pub(crate) fn ray_map(c: &super::bezier::BezierCurve, apex: DVec2, xi: f64, eta: f64) -> DVec2 {
+    if eta >= 1.0 {
+        return apex;
+    }
+    eta * apex + (1.0 - eta) * c.eval((xi / (1.0 - eta)).clamp(0.0, 1.0))
+}
+
+/// The inverse of the Bernstein collocation matrix of order `q` (row `α`, column = node in
+/// [`lagrange_layout`] order): Bézier control points are `C_α = Σ inv[α][n] · node_n`.
+pub(crate) fn collocation_inverse(q: u32) -> Vec<Vec<f64>> {
+    let n = multi_indices(q).len();
+    let mut inv = vec![vec![0.0; n]; n];
+    for k in 0..n {
+        let mut e = vec![DVec2::ZERO; n];
+        e[k] = DVec2::X;
+        let col = lagrange_to_bezier(q, &e);
+        for (a, p) in col.points.iter().enumerate() {
+            inv[a][k] = p.x;
+        }
+    }
+    inv
+}
+
+/// Places the interior nodes of a curved element of order `q ≥ 3` (the boundary nodes in
+/// `nodes` are fixed: the curve's points and the straight edges' equispaced points) to make
+/// the smallest Bézier coefficient of `det DF` as large as possible, one interior node at a
+/// time. With one free node every coefficient is affine in it (`a × a = 0`), so the best
+/// position is a linear program, solved by its vertices. Returns the smallest coefficient
+/// (> 0: the element is valid everywhere) [DESIGN: the spec's elevated interior control
+/// points fold the thin curved triangles on a curve's convex side; BG's own construction
+/// moves them too].
+pub(crate) fn optimize_interior(q: u32, nodes: &mut [DVec2], inv: &[Vec<f64>]) -> f64 {
+    let layout = lagrange_layout(q);
+    let interior: Vec<usize> = (0..layout.len())
+        .filter(|&k| {
+            let [a, b] = layout[k];
+            a > 0 && b > 0 && a + b < q
+        })
+        .collect();
+    let min_coef = |nodes: &[DVec2]| -> f64 {
+        let tri = control_points(q, nodes, inv);
+        tri.jacobian_coefficients()
+            .into_iter()
+            .fold(f64::INFINITY, f64::min)
+    };
+    if interior.is_empty() {
+        return min_coef(nodes);
+    }
+    let (mut lo, mut hi) = (nodes[0], nodes[0]);
+    for p in nodes.iter() {
+        lo = lo.min(*p);
+        hi = hi.max(*p);
+    }
+    let mut best = min_coef(nodes);
+    for _sweep in 0..3 {
+        for &k in &interior {
+            // coef(X) = K + G·X: sample at X = 0, e_x, e_y relative to the current node.
+            let x0 = nodes[k];
+            let f = |x: DVec2, nodes: &mut [DVec2]| -> Vec<f64> {
+                nodes[k] = x;
+                control_points(q, nodes, inv).jacobian_coefficients()
+            };
+            let scale = (hi - lo).length().max(1e-300);
+            let c0 = f(x0, nodes);
+            let cx = f(x0 + DVec2::X * scale, nodes);
+            let cy = f(x0 + DVec2::Y * scale, nodes);
+            nodes[k] = x0;
+            let grads: Vec<DVec2> = (0..c0.len())
+                .map(|i| DVec2::new(cx[i] - c0[i], cy[i] - c0[i]) / scale)
+                .collect();
+            // Max over X (in the element's box) of min_i c0_i + G_i·(X − x0): try the
+            // vertices of the LP (three active constraints), keep the best feasible one.
+            let eval = |x: DVec2| -> f64 {
+                (0..c0.len())
+                    .map(|i| c0[i] + grads[i].dot(x - x0))
+                    .fold(f64::INFINITY, f64::min)
+            };
+            let mut cand_best = (eval(x0), x0);
+            let n = c0.len();
+            for a in 0..n {
+                for b in a + 1..n {
+                    // Equalize a and b, and a and c: solve (G_a − G_b)·d = c0_b − c0_a,
+                    // (G_a − G_c)·d = c0_c − c0_a for d = X − x0.
+                    for c in b + 1..n {
+                        let r1 = grads[a] - grads[b];
+                        let r2 = grads[a] - grads[c];
+                        let det = r1.perp_dot(r2);
+                        if det.abs() < 1e-300 {
+                            continue;
+                        }
+                        let (f1, f2) = (c0[b] - c0[a], c0[c] - c0[a]);
+                        let dx = DVec2::new(f1 * r2.y - f2 * r1.y, r1.x * f2 - r2.x * f1) / det;
+                        let x = x0 + dx;
+                        if x.x < lo.x || x.y < lo.y || x.x > hi.x || x.y > hi.y {
+                            continue;
+                        }
+                        let v = eval(x);
+                        if v > cand_best.0 {
+                            cand_best = (v, x);
+                        }
+                    }
+                }
+            }
+            nodes[k] = cand_best.1;
+            let now = min_coef(nodes);
+            if now > best {
+                best = now;
+            } else {
+                nodes[k] = x0;
+            }
+        }
+    }
+    best
+}
+
+/// The Bézier triangle of Lagrange nodes (with a precomputed [`collocation_inverse`]).
+pub(crate) fn control_points(q: u32, nodes: &[DVec2], inv: &[Vec<f64>]) -> BezierTriangle {
+    let points = inv
+        .iter()
+        .map(|row| row.iter().zip(nodes).fold(DVec2::ZERO, |s, (w, p)| s + *w * *p))
+        .collect();
+    BezierTriangle { degree: q, points }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -228,6 +356,13 @@ mod tests {
         }
         // The spec's measured case (§5.1): valid.
         assert!(tri.jacobian_coefficients().iter().all(|&x| x > 0.0));
+        // The interior node placement keeps it valid.
+        let inv = collocation_inverse(3);
+        let mut nodes: Vec<DVec2> = lagrange_layout(3)
+            .iter()
+            .map(|&[a, b]| tri.eval(a as f64 / 3.0, b as f64 / 3.0))
+            .collect();
+        assert!(optimize_interior(3, &mut nodes, &inv) > 0.0);
         // Interpolating it at order 3 and converting back gives the same control points.
         let nodes: Vec<DVec2> = lagrange_layout(3)
             .iter()
@@ -247,5 +382,45 @@ mod tests {
         assert!(bad.jacobian_coefficients().iter().any(|&x| x <= 0.0));
         let good = BezierTriangle::guarding(&ctrl, DVec2::new(0.5, 0.6));
         assert!(good.jacobian_coefficients().iter().all(|&x| x > 0.0));
+    }
+}
+
+#[cfg(test)]
+mod lens {
+    use super::*;
+    use crate::curved::bezier::BezierCurve;
+    use crate::curved::guard::Guards;
+
+    /// The thin curved triangles on a curve's convex side (the guard against its tangent
+    /// lines) fold with elevated interior control points; placed interior nodes unfold them.
+    #[test]
+    fn convex_side_guarding_triangles_become_valid() {
+        let k = 0.552_284_749_830_793_4;
+        let arc = BezierCurve::new(vec![
+            DVec2::new(1.0, 0.0),
+            DVec2::new(1.0, -k),
+            DVec2::new(k, -1.0),
+            DVec2::new(0.0, -1.0),
+        ]);
+        let mut pieces = vec![arc.clone()];
+        let mut p = arc;
+        for _ in 0..6 {
+            p = p.split_half().0;
+            pieces.push(p.clone());
+        }
+        for piece in pieces {
+            let g = Guards::of(&piece, 1.414, 1e-2, 179.0).unwrap().left;
+            let exact = BezierTriangle::guarding(piece.points(), g);
+            for q in 3..=4u32 {
+                let inv = collocation_inverse(q);
+                let mut nodes: Vec<DVec2> = lagrange_layout(q)
+                    .iter()
+                    .map(|&[a, b]| ray_map(&piece, g, a as f64 / q as f64, b as f64 / q as f64))
+                    .collect();
+                let _ = &exact;
+                let m = optimize_interior(q, &mut nodes, &inv);
+                assert!(m > 0.0, "order {q}, piece of width {}: {m}", (piece.end() - piece.start()).length());
+            }
+        }
     }
 }

@@ -108,6 +108,24 @@ impl TrimmedPatches {
         }
     }
 
+    /// The signed area of region `r` in parameter space, by Green's theorem on its loops
+    /// (closed form from the control points, spec §3.4).
+    pub fn region_area(&self, r: RegionId) -> f64 {
+        self.regions[r.idx()]
+            .loops
+            .iter()
+            .flat_map(|l| l.uses.iter())
+            .map(|u| {
+                let a = self.curves[u.curve.idx()].area_term();
+                if u.reversed {
+                    -a
+                } else {
+                    a
+                }
+            })
+            .sum()
+    }
+
     /// A region bounded by straight segments through `points` (counter-clockwise), on one
     /// patch: a convenience for tests and examples. Curves are appended to `self.curves`.
     pub fn add_polygon_region(&mut self, patch: u32, points: &[DVec2]) -> RegionId {

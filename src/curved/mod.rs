@@ -45,6 +45,7 @@ mod voronoi;
 
 pub use bezier::BezierCurve;
 pub use error::CurvedError;
+
 pub use field::{Grid2, Grid3, MetricField, SizeField};
 pub use input::{CurveId, CurveUse, PatchId, Region, RegionId, TrimLoop, TrimmedPatches};
 pub use json::{parse_input, read_input, ReadError};
@@ -140,6 +141,7 @@ pub fn mesh(input: &TrimmedPatches, options: &CurvedOptions) -> crate::Result<Cu
         let corner = corners::small_corners(&d, &regions, options.small_angle_deg);
         let mut refiner = refine::Refiner::new(&d, options, corner);
         refiner.run(&mut d)?;
+        unfold_curved_elements(&mut d, &mut refiner, options.order)?;
         stats.seconds_refine += t.elapsed().as_secs_f64();
         let t = Instant::now();
         let r = refiner.stats;
@@ -184,4 +186,44 @@ pub fn mesh(input: &TrimmedPatches, options: &CurvedOptions) -> crate::Result<Cu
         quality,
         stats,
     })
+}
+
+/// Bisects the pieces whose curved elements fold at the output order (spec §5.1: "or
+/// bisect the curve further"), refining again after each round.
+fn unfold_curved_elements(d: &mut domain::Domain, refiner: &mut refine::Refiner, q: u32) -> crate::Result<()> {
+    if q == 1 {
+        return Ok(());
+    }
+    let inv = element::collocation_inverse(q);
+    for round in 0..=8 {
+        let mut folded: Vec<u32> = Vec::new();
+        for (id, piece) in d.guarded.pieces.iter().enumerate() {
+            let Some(piece) = piece else { continue };
+            if piece.is_linear() {
+                continue;
+            }
+            let sides = d.curve_regions[piece.curve as usize];
+            for (k, right) in [false, true].into_iter().enumerate() {
+                if sides[k] != triangulation::NONE && assemble::curved_nodes(d, id as u32, right, q, &inv).1 <= 0.0 {
+                    folded.push(id as u32);
+                    break;
+                }
+            }
+        }
+        if folded.is_empty() {
+            return Ok(());
+        }
+        if round == 8 {
+            let p = d.guarded.piece(folded[0]);
+            return Err(CurvedError::InvalidElement { curve: p.curve, t0: p.t0(), t1: p.t1(), order: q }.into());
+        }
+        for id in folded {
+            if d.guarded.pieces[id as usize].is_some() && !refiner.split_piece(d, id, None)? {
+                let p = d.guarded.piece(id);
+                return Err(CurvedError::InvalidElement { curve: p.curve, t0: p.t0(), t1: p.t1(), order: q }.into());
+            }
+        }
+        refiner.drain(d)?;
+    }
+    Ok(())
 }

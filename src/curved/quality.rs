@@ -6,7 +6,6 @@
 
 use glam::{DVec2, DVec3};
 
-use super::angles::corner_angles;
 use super::element::{eval_scalar, BezierTriangle};
 use super::field::{MetricField, PatchMetric};
 use super::output::{ElementKind, ElementQuality};
@@ -180,42 +179,45 @@ impl Measure<'_> {
         at: impl Fn([f64; 3]) -> DVec2,
         jac: Option<f64>,
     ) -> ElementQuality {
-        let min_vertex = m
+        // The smallest angle has the largest cosine: one arccos for the nine corner angles.
+        let max_cos = m
             .iter()
-            .flat_map(|mk| corner_angles_in(corners, mk))
-            .fold(f64::INFINITY, f64::min);
-        let centroid = at([1.0 / 3.0; 3]);
-        let mc = self.metric_at(centroid, &m[0]);
-        let angles = corner_angles_in(corners, &mc);
+            .flat_map(|mk| corners.map(|(a, b)| mk.dot(a, b) / (mk.norm_sq(a) * mk.norm_sq(b)).sqrt()))
+            .fold(f64::NEG_INFINITY, f64::max);
+        let min_vertex = max_cos.clamp(-1.0, 1.0).acos().to_degrees();
+        // Pooled angles: in the mean of the vertex metrics (no field evaluation).
+        let mean = m[0].add(&m[1]).add(&m[2]).scale(1.0 / 3.0);
+        let angles = corner_angles_in(corners, &mean);
         let (mut smin, mut smax) = (f64::NAN, f64::NAN);
         let (mut xmin, mut xmax) = (f64::NAN, f64::NAN);
         let mut xyz_angles = [f64::NAN; 3];
-        let xyz: [DVec3; 3] = p.map(|q| self.patch.eval(q.x, q.y));
-        let jacs: [(DVec3, DVec3); 3] = p.map(|q| {
-            let s = self.patch.eval_with_derivatives(q.x, q.y);
-            (s.du, s.dv)
-        });
-        // Directions in R³: the edges of the flat triangle, curved edges pushed forward by J.
-        let push = |k: usize, w: DVec2| jacs[k].0 * w.x + jacs[k].1 * w.y;
-        let flat = [
-            (xyz[1] - xyz[0], xyz[2] - xyz[0]),
-            (xyz[2] - xyz[1], xyz[0] - xyz[1]),
-            (xyz[0] - xyz[2], xyz[1] - xyz[2]),
-        ];
-        let dirs3: [(DVec3, DVec3); 3] = if jac.is_some() {
-            [
-                (push(0, corners[0].0), flat[0].1),
-                (flat[1].0, push(1, corners[1].1)),
-                flat[2],
-            ]
-        } else {
-            flat
-        };
-        let centroid3 = self.patch.eval(centroid.x, centroid.y);
-        if let Some(m3) = self.field.real_space(centroid3) {
-            xyz_angles = dirs3.map(|(a, b)| m3.angle(a, b).to_degrees());
-        }
         if self.sampled {
+            let xyz: [DVec3; 3] = p.map(|q| self.patch.eval(q.x, q.y));
+            let jacs: [(DVec3, DVec3); 3] = p.map(|q| {
+                let s = self.patch.eval_with_derivatives(q.x, q.y);
+                (s.du, s.dv)
+            });
+            // Directions in R³: the edges of the flat triangle, curved edges pushed forward by J.
+            let push = |k: usize, w: DVec2| jacs[k].0 * w.x + jacs[k].1 * w.y;
+            let flat = [
+                (xyz[1] - xyz[0], xyz[2] - xyz[0]),
+                (xyz[2] - xyz[1], xyz[0] - xyz[1]),
+                (xyz[0] - xyz[2], xyz[1] - xyz[2]),
+            ];
+            let dirs3: [(DVec3, DVec3); 3] = if jac.is_some() {
+                [
+                    (push(0, corners[0].0), flat[0].1),
+                    (flat[1].0, push(1, corners[1].1)),
+                    flat[2],
+                ]
+            } else {
+                flat
+            };
+            let centroid = at([1.0 / 3.0; 3]);
+            let centroid3 = self.patch.eval(centroid.x, centroid.y);
+            if let Some(m3) = self.field.real_space(centroid3) {
+                xyz_angles = dirs3.map(|(a, b)| m3.angle(a, b).to_degrees());
+            }
             let n = self.samples.max(1);
             let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
             let (mut lo3, mut hi3) = (f64::INFINITY, f64::NEG_INFINITY);

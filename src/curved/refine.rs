@@ -65,9 +65,74 @@ impl PartialOrd for Task {
     }
 }
 
+/// Most flips after one insertion or bisection.
+const LEGALIZE_LIMIT: usize = 256;
+
 const ENCROACHED: u8 = 0;
 const BAD: u8 = 1;
 const BIG: u8 = 2;
+
+/// The queue of violations: encroached guard edges first (a stack), then bad triangles
+/// (worst first, exactly), then big ones, largest first by buckets of a quarter octave of
+/// `r²` (last in, first out within a bucket), which keeps the order coarse to fine at O(1)
+/// a step.
+#[derive(Default)]
+struct Queue {
+    encroached: Vec<u32>,
+    bad: BinaryHeap<Task>,
+    big: Vec<Vec<(u32, u32)>>,
+    big_top: usize,
+}
+
+impl Queue {
+    fn push(&mut self, t: Task) {
+        match t.class {
+            ENCROACHED => self.encroached.push(t.item),
+            BAD => self.bad.push(t),
+            _ => {
+                let b = if t.key <= 1.0 {
+                    0
+                } else {
+                    ((t.key.log2() * 4.0) as usize + 1).min(4095)
+                };
+                if self.big.len() <= b {
+                    self.big.resize_with(b + 1, Vec::new);
+                }
+                self.big[b].push((t.item, t.generation));
+                self.big_top = self.big_top.max(b);
+            }
+        }
+    }
+
+    fn pop(&mut self) -> Option<Task> {
+        if let Some(c) = self.encroached.pop() {
+            return Some(Task {
+                class: ENCROACHED,
+                key: 0.0,
+                item: c,
+                generation: 0,
+            });
+        }
+        if let Some(t) = self.bad.pop() {
+            return Some(t);
+        }
+        loop {
+            let bucket = self.big.get_mut(self.big_top)?;
+            if let Some((item, generation)) = bucket.pop() {
+                return Some(Task {
+                    class: BIG,
+                    key: 0.0,
+                    item,
+                    generation,
+                });
+            }
+            if self.big_top == 0 {
+                return None;
+            }
+            self.big_top -= 1;
+        }
+    }
+}
 
 /// Counters of one refinement.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
@@ -85,7 +150,7 @@ pub struct RefineStats {
 
 pub(crate) struct Refiner<'o> {
     opts: &'o CurvedOptions,
-    heap: BinaryHeap<Task>,
+    heap: Queue,
     cav: Cavity,
     out: Vec<u32>,
     cos_min: f64,
@@ -104,7 +169,7 @@ impl<'o> Refiner<'o> {
         let max_sites = opts.max_sites.unwrap_or(10 * boundary + 1_000_000);
         Refiner {
             opts,
-            heap: BinaryHeap::new(),
+            heap: Queue::default(),
             cav: Cavity::default(),
             out: Vec::new(),
             cos_min: (1.0 / (2.0 * opts.radius_edge_bound)).asin().cos(),
@@ -189,10 +254,25 @@ impl<'o> Refiner<'o> {
 
     /// Runs the refinement to the end (or a budget).
     pub fn run(&mut self, d: &mut Domain) -> Result<(), Error> {
+        // The first triangulation came from insertions into an enclosing triangle and edge
+        // flips for the constraints: make it locally Delaunay in the metric first.
+        let mut stack: Vec<(u32, u32)> = (0..d.tr.triangle_slots() as u32)
+            .filter(|&t| d.tr.alive[t as usize])
+            .flat_map(|t| (0..3).map(move |k| (3 * t + k, 0)))
+            .map(|(h, _)| (h, d.tr.generation[tri_of(h) as usize]))
+            .collect();
+        let mut touched = Vec::new();
+        let limit = 8 * d.tr.triangle_slots() + 64;
+        d.tr.legalize(&mut stack, &mut touched, limit);
         self.unresolved.resize(d.tr.triangle_slots(), false);
         for t in 0..d.tr.triangle_slots() as u32 {
             self.push_triangle(d, t);
         }
+        self.drain(d)
+    }
+
+    /// Fixes violations until the queue is empty (or a budget runs out).
+    pub fn drain(&mut self, d: &mut Domain) -> Result<(), Error> {
         while let Some(task) = self.heap.pop() {
             self.stats.steps += 1;
             if self.stats.steps > self.max_steps {
@@ -216,9 +296,15 @@ impl<'o> Refiner<'o> {
                     if !con.alive {
                         continue;
                     }
-                    let apex = d.tr.pos[d.tr.apex(con.half) as usize];
+                    let w = d.tr.apex(con.half);
+                    let apex = d.tr.pos[w as usize];
+                    if let Some(v) = self.corner_of_piece(d, con.piece) {
+                        if self.on_other_corner_piece(d, v, w, con.piece) {
+                            continue;
+                        }
+                    }
                     if self.encroached(d, c, apex) {
-                        if std::env::var_os("KATACHI_CURVED_TRACE").is_some() && self.stats.bisections < 30 {
+                        if std::env::var_os("KATACHI_CURVED_TRACE").is_some() && trace_on(self.stats.bisections) {
                             eprintln!(
                                 "encroached {c}: {:?} -> {:?} by apex {:?} (kind {:?}), piece {} depth {}",
                                 d.tr.pos[con.a as usize],
@@ -258,12 +344,21 @@ impl<'o> Refiner<'o> {
     }
 
     /// Bisects `piece` and queues what changed; `then` is re-queued if it survives.
-    fn split_piece(&mut self, d: &mut Domain, piece: u32, then: Option<u32>) -> Result<bool, Error> {
+    pub fn split_piece(&mut self, d: &mut Domain, piece: u32, then: Option<u32>) -> Result<bool, Error> {
         self.budget_check(d)?;
         match bisect(d, piece)? {
             Bisected::AtDepthCap => Ok(false),
-            Bisected::Split { touched, .. } => {
+            Bisected::Split { mut touched, .. } => {
                 self.stats.bisections += 1;
+                let mut stack: Vec<(u32, u32)> = touched
+                    .iter()
+                    .filter(|&&t| d.tr.alive[t as usize])
+                    .flat_map(|&t| (0..3).map(move |k| 3 * t + k))
+                    .map(|h| (h, d.tr.generation[tri_of(h) as usize]))
+                    .collect();
+                let mut more = Vec::new();
+                d.tr.legalize(&mut stack, &mut more, LEGALIZE_LIMIT);
+                touched.extend(more);
                 for t in touched {
                     self.push_triangle(d, t);
                 }
@@ -283,107 +378,173 @@ impl<'o> Refiner<'o> {
         self.stats.unresolved += 1;
     }
 
-    /// Inserts the Voronoi vertex of bad or big triangle `t`, or splits the guard edge it
-    /// lies beyond or encroaches.
+    /// The off-centre of triangle `t` (Üngör 2004; [DESIGN]): on the bisector of its
+    /// shortest edge, at the point where a triangle on that edge would just meet the bound
+    /// (with a 5% margin), or the circumcentre if nearer; all in the mean of the vertex
+    /// metrics. For a skinny triangle it lies near the short edge, where the Voronoi vertex
+    /// can be far away across the domain.
+    fn off_center(&self, d: &Domain, t: u32) -> Option<DVec2> {
+        let v = d.tr.tri(t);
+        let p = v.map(|i| d.tr.pos[i as usize]);
+        let m = v.map(|i| d.tr.metric[i as usize]);
+        let mean = m[0].add(&m[1]).add(&m[2]).scale(1.0 / 3.0);
+        let f = mean.cholesky()?;
+        let q = p.map(|x| f.apply(x - p[0]));
+        let (mut k, mut best) = (0, f64::INFINITY);
+        for i in 0..3 {
+            let l = (q[(i + 1) % 3] - q[i]).length_squared();
+            if l < best {
+                best = l;
+                k = i;
+            }
+        }
+        let (a, b) = (q[k], q[(k + 1) % 3]);
+        let (bb, cc) = (q[1], q[2]);
+        let den = 2.0 * bb.perp_dot(cc);
+        if den == 0.0 {
+            return None;
+        }
+        let (lb, lc) = (bb.length_squared(), cc.length_squared());
+        let center = DVec2::new(cc.y * lb - bb.y * lc, bb.x * lc - cc.x * lb) / den;
+        let mid = 0.5 * (a + b);
+        let to_center = center - mid;
+        let dist = to_center.length();
+        let alpha = (1.0 / (2.0 * 0.95 * self.opts.radius_edge_bound)).asin();
+        let h = 0.5 * best.sqrt() / (0.5 * alpha).tan();
+        let off = if dist <= h || dist == 0.0 {
+            center
+        } else {
+            mid + to_center * (h / dist)
+        };
+        let x = p[0] + f.solve(off);
+        if std::env::var_os("KATACHI_CURVED_TRACE3").is_some() {
+            eprintln!("offc p {p:?} m {m:?} q {q:?} k {k} center {center:?} h {h} dist {dist} off {off:?} x {x:?}");
+        }
+        x.is_finite().then_some(x)
+    }
+
+    /// The small corner `v` at an end of `piece`, if any.
+    fn corner_of_piece(&self, d: &Domain, piece: u32) -> Option<u32> {
+        let [p0, pd, _, _] = d.piece_verts[piece as usize];
+        [p0, pd]
+            .into_iter()
+            .find(|&v| self.corner.get(v as usize).copied().unwrap_or(false))
+    }
+
+    /// Whether vertex `w` belongs to another piece that also ends at the small corner `v`
+    /// (the two chains at a small angle encroach each other without end, spec §4.3).
+    fn on_other_corner_piece(&self, d: &Domain, v: u32, w: u32, piece: u32) -> bool {
+        d.guarded.pieces.iter().enumerate().any(|(j, p)| {
+            p.is_some() && j as u32 != piece && {
+                let pv = d.piece_verts[j];
+                (pv[0] == v || pv[1] == v) && pv.contains(&w)
+            }
+        })
+    }
+
+    /// Inserts a point for bad or big triangle `t` — its off-centre (bad) or Voronoi vertex
+    /// (big), else its centroid — or splits the guard edge the point encroaches.
     fn fix_triangle(&mut self, d: &mut Domain, t: u32) -> Result<(), Error> {
         if self.unresolved.get(t as usize).copied().unwrap_or(false) {
             return Ok(());
         }
-        if self.assess(d, t).is_none() {
+        let Some((class, _)) = self.assess(d, t) else {
             return Ok(());
-        }
-        let c = d.tr.center[t as usize];
-        let seeds = match d.tr.locate(c, t) {
-            Located::Inside(u) => vec![u],
-            Located::OnEdge(h) => {
-                let g = d.tr.twin[h as usize];
-                if d.tr.cons[h as usize] != NONE || g == NONE {
-                    return self.split_or_give_up(d, d.tr.cons[h as usize], t);
+        };
+        let exempt = self.is_exempt(d, t);
+        let first = if class == BAD {
+            self.off_center(d, t)
+        } else {
+            Some(d.tr.center[t as usize])
+        };
+        let [a, b, c] = d.tr.tri(t).map(|i| d.tr.pos[i as usize]);
+        let centroid = (a + b + c) / 3.0;
+        for (ci, cand) in [first, Some(centroid)].into_iter().flatten().enumerate() {
+            let seeds = match d.tr.locate(cand, t) {
+                Located::Inside(u) => vec![u],
+                Located::OnEdge(h) if d.tr.cons[h as usize] == NONE && d.tr.twin[h as usize] != NONE => {
+                    vec![tri_of(h), tri_of(d.tr.twin[h as usize])]
                 }
-                vec![tri_of(h), tri_of(g)]
-            }
-            Located::Blocked(h) => {
-                return self.split_or_give_up(d, d.tr.cons[h as usize], t);
-            }
-            Located::OnVertex(_) => {
-                self.give_up(d, t);
+                Located::OnEdge(h) | Located::Blocked(h) => {
+                    // Beyond a guard edge: split it if the point encroaches it (Ruppert).
+                    let k = d.tr.cons[h as usize];
+                    if k != NONE && !exempt && self.encroached(d, k, cand) {
+                        let piece = d.tr.constraints[k as usize].piece;
+                        if !self.split_piece(d, piece, Some(t))? {
+                            self.give_up(d, t);
+                        }
+                        return Ok(());
+                    }
+                    continue;
+                }
+                Located::OnVertex(_) => continue,
+            };
+            let m = d.metric.at(cand)?;
+            let mut cav = std::mem::take(&mut self.cav);
+            d.tr.cavity(cand, &m, &seeds, NONE, &mut cav);
+            // Ruppert: a new site that would encroach a guard edge splits that edge's piece.
+            let enc = cav
+                .boundary
+                .iter()
+                .map(|&h| d.tr.cons[h as usize])
+                .find(|&k| k != NONE && self.encroached(d, k, cand));
+            if let Some(k) = enc {
+                self.cav = cav;
+                if exempt {
+                    break;
+                }
+                let piece = d.tr.constraints[k as usize].piece;
+                if !self.split_piece(d, piece, Some(t))? {
+                    self.give_up(d, t);
+                }
                 return Ok(());
             }
-        };
-        let m = match d.metric.at(c) {
-            Ok(m) => m,
-            Err(e) => return Err(e.into()),
-        };
-        let mut cav = std::mem::take(&mut self.cav);
-        d.tr.cavity(c, &m, &seeds, NONE, &mut cav);
-        // Ruppert: a new site that would encroach a guard edge splits that edge's piece.
-        let enc = cav
-            .boundary
-            .iter()
-            .map(|&h| d.tr.cons[h as usize])
-            .find(|&k| k != NONE && self.encroached(d, k, c));
-        if let Some(k) = enc {
-            if std::env::var_os("KATACHI_CURVED_TRACE").is_some() && self.stats.bisections < 30 {
-                let con = d.tr.constraints[k as usize];
-                eprintln!(
-                    "candidate {c:?} for {t} (r2 {}, tri {:?}) encroaches {:?} -> {:?}",
-                    d.tr.radius2[t as usize],
-                    d.tr.tri(t).map(|v| d.tr.pos[v as usize]),
-                    d.tr.pos[con.a as usize],
-                    d.tr.pos[con.b as usize]
-                );
+            self.budget_check(d)?;
+            if std::env::var_os("KATACHI_CURVED_TRACE2").is_some() {
+                eprintln!("insert {} class {class} at {cand:?} for {:?} r2 {}", if ci == 0 { "first" } else { "centroid" }, d.tr.tri(t).map(|i| d.tr.pos[i as usize]), d.tr.radius2[t as usize]);
             }
+            let v = d.add_vertex_with(cand, m, VertexKind::Steiner);
+            let mut out = std::mem::take(&mut self.out);
+            d.tr.fill(v, &cav, NONE, &mut out);
+            self.stats.insertions += 1;
+            if self.unresolved.len() < d.tr.triangle_slots() {
+                self.unresolved.resize(d.tr.triangle_slots(), false);
+            }
+            let mut stack: Vec<(u32, u32)> = out
+                .iter()
+                .map(|&u| (3 * u, d.tr.generation[u as usize]))
+                .collect();
+            let mut flipped = Vec::new();
+            d.tr.legalize(&mut stack, &mut flipped, LEGALIZE_LIMIT);
+            if self.unresolved.len() < d.tr.triangle_slots() {
+                self.unresolved.resize(d.tr.triangle_slots(), false);
+            }
+            for &u in out.iter().chain(&flipped) {
+                self.unresolved[u as usize] = false;
+                self.push_triangle(d, u);
+            }
+            self.out = out;
+            let survived = d.tr.alive[t as usize] && !cav_contains(&cav, t);
             self.cav = cav;
-            let piece = d.tr.constraints[k as usize].piece;
-            if !self.split_piece(d, piece, Some(t))? {
-                self.give_up(d, t);
+            if survived && self.assess(d, t).is_some() {
+                // The new site did not take t over (neighbouring metrics disagree): push it
+                // again, its centroid comes next.
+                self.push_triangle(d, t);
             }
             return Ok(());
         }
-        self.budget_check(d)?;
-        let v = d.add_vertex_with(c, m, VertexKind::Steiner);
-        let mut out = std::mem::take(&mut self.out);
-        d.tr.fill(v, &cav, NONE, &mut out);
-        self.stats.insertions += 1;
-        if self.unresolved.len() < d.tr.triangle_slots() {
-            self.unresolved.resize(d.tr.triangle_slots(), false);
-        }
-        for &u in &out {
-            self.unresolved[u as usize] = false;
-            self.push_triangle(d, u);
-        }
-        self.out = out;
-        self.cav = cav;
-        if d.tr.alive[t as usize] && !cav_contains(&self.cav, t) {
-            // The new site did not take t over (possible only where neighbouring metrics
-            // disagree); leave it for the report rather than loop.
-            if self.assess(d, t).is_some() {
-                self.give_up(d, t);
-            }
-        }
-        Ok(())
-    }
-
-    fn split_or_give_up(&mut self, d: &mut Domain, c: u32, t: u32) -> Result<(), Error> {
-        if std::env::var_os("KATACHI_CURVED_TRACE").is_some() && self.stats.bisections < 30 {
-            eprintln!(
-                "center {:?} of {t} {:?} is beyond constraint {c}",
-                d.tr.center[t as usize],
-                d.tr.tri(t).map(|v| d.tr.pos[v as usize])
-            );
-        }
-        if c == NONE {
-            self.give_up(d, t);
+        if exempt {
             return Ok(());
         }
-        let piece = d.tr.constraints[c as usize].piece;
-        if !self.split_piece(d, piece, Some(t))? {
-            self.give_up(d, t);
-        }
+        self.give_up(d, t);
         Ok(())
     }
 }
 
 fn cav_contains(c: &Cavity, t: u32) -> bool {
     c.tris.contains(&t)
+}
+
+fn trace_on(bisections: u64) -> bool {
+    std::env::var_os("KATACHI_CURVED_TRACE").is_some() && (bisections < 30 || bisections % 50 == 0)
 }

@@ -542,6 +542,56 @@ impl Triangulation {
         e1
     }
 
+    /// Whether the edge of `h` should flip: the vertex across it lies inside the circumcircle
+    /// of `h`'s triangle, both measured in the mean metric of the four vertices (a symmetric
+    /// test, so repeated flips end as Lawson's do). Constraints never flip.
+    pub fn should_flip(&self, h: u32) -> bool {
+        let g = self.twin[h as usize];
+        if g == NONE || self.cons[h as usize] != NONE {
+            return false;
+        }
+        let v = [self.vert[h as usize], self.dest(h), self.apex(h), self.apex(g)];
+        let m = v
+            .iter()
+            .fold(Metric2::new(0.0, 0.0, 0.0), |acc, &i| acc.add(&self.metric[i as usize]));
+        let Some(f) = m.cholesky() else { return false };
+        let o = self.pos[v[0] as usize];
+        let q = v.map(|i| f.apply(self.pos[i as usize] - o));
+        let c = |p: DVec2| robust::Coord { x: p.x, y: p.y };
+        robust::incircle(c(q[0]), c(q[1]), c(q[2]), c(q[3])) > 0.0
+    }
+
+    /// Lawson's flips from the edges `stack` (half-edges with their triangle's generation):
+    /// flips every edge that [`Self::should_flip`] and can, then checks the four edges around
+    /// the new diagonal, at most `limit` flips. Changed triangles go to `touched`.
+    pub fn legalize(&mut self, stack: &mut Vec<(u32, u32)>, touched: &mut Vec<u32>, limit: usize) {
+        let mut flips = 0;
+        while let Some((h, gen)) = stack.pop() {
+            let t = tri_of(h);
+            if !self.alive[t as usize] || self.generation[t as usize] != gen {
+                continue;
+            }
+            if !self.should_flip(h) || !self.flippable(h) {
+                continue;
+            }
+            if flips >= limit {
+                stack.clear();
+                return;
+            }
+            flips += 1;
+            let g = self.twin[h as usize];
+            let (t1, t2) = (tri_of(h), tri_of(g));
+            self.flip(h);
+            touched.push(t1);
+            touched.push(t2);
+            for t in [t1, t2] {
+                for k in 0..3 {
+                    stack.push((3 * t + k, self.generation[t as usize]));
+                }
+            }
+        }
+    }
+
     /// Whether the quadrilateral around the edge of `h` is strictly convex (so it can flip).
     pub fn flippable(&self, h: u32) -> bool {
         let g = self.twin[h as usize];

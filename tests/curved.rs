@@ -462,3 +462,121 @@ fn site_budget_is_a_typed_error() {
     let e = curved_error(mesh(&inp, &o));
     assert!(matches!(e, CurvedError::Budget { option: "max_sites", .. }), "{e}");
 }
+
+// ---- the angle bound over random metrics and domains (spec §7.10) ----
+
+use proptest::prelude::*;
+
+fn cases() -> u32 {
+    std::env::var("KATACHI_PROPTEST_CASES")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(24)
+}
+
+/// A random star-shaped trim loop around (0.5, 0.5): `n` corners at radii in [0.25, 0.45],
+/// each edge a line, quadratic or cubic bulging by up to a fifth of its length.
+fn star_loop(n: usize, radii: &[f64], jitter: &[f64], kinds: &[u8], bulges: &[f64]) -> Vec<BezierCurve> {
+    let c = v2(0.5, 0.5);
+    let pts: Vec<DVec2> = (0..n)
+        .map(|i| {
+            let a = (i as f64 + 0.4 * jitter[i]) / n as f64 * std::f64::consts::TAU;
+            c + radii[i] * DVec2::new(a.cos(), a.sin())
+        })
+        .collect();
+    (0..n)
+        .map(|i| {
+            let (a, b) = (pts[i], pts[(i + 1) % n]);
+            let normal = (b - a).perp() * bulges[i] * 0.2;
+            match kinds[i] % 3 {
+                0 => BezierCurve::line(a, b),
+                1 => BezierCurve::new(vec![a, 0.5 * (a + b) + 2.0 * normal, b]),
+                _ => BezierCurve::new(vec![a, a + (b - a) / 3.0 + 1.5 * normal, a + 2.0 * (b - a) / 3.0 - 0.5 * normal, b]),
+            }
+        })
+        .collect()
+}
+
+#[derive(Debug, Clone)]
+enum MetricKind {
+    Isotropic(f64),
+    Directional { h: f64, ratio: f64, dir: [f64; 3] },
+    Rotating { h: f64, ratio: f64, start: f64, turn: f64 },
+}
+
+fn metric_of(k: &MetricKind) -> MetricField {
+    match *k {
+        MetricKind::Isotropic(h) => MetricField::isotropic(h),
+        MetricKind::Directional { h, ratio, dir } => {
+            MetricField::Constant(Metric3::from_direction(DVec3::from_array(dir), h * ratio, h))
+        }
+        MetricKind::Rotating { h, ratio, start, turn } => {
+            // Parameter space: the long axis turns by `turn` (at most π/2) across the square.
+            MetricField::ParameterFunction(std::sync::Arc::new(move |p: DVec2| {
+                let a = start + turn * 0.5 * (p.x + p.y);
+                Metric2::from_axes(DVec2::new(a.cos(), a.sin()), h * ratio, h)
+            }))
+        }
+    }
+}
+
+fn metric_strategy() -> impl Strategy<Value = MetricKind> {
+    prop_oneof![
+        (0.04f64..0.1).prop_map(MetricKind::Isotropic),
+        (0.015f64..0.05, 1.0f64..10.0, prop::array::uniform3(-1.0f64..1.0))
+            .prop_filter("a direction", |(_, _, d)| DVec3::from_array(*d).length() > 0.1)
+            .prop_map(|(h, ratio, dir)| MetricKind::Directional { h, ratio, dir }),
+        (0.015f64..0.05, 1.0f64..5.0, 0.0f64..3.2, 0.0f64..1.5708)
+            .prop_map(|(h, ratio, start, turn)| MetricKind::Rotating { h, ratio, start, turn }),
+    ]
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: cases(), ..ProptestConfig::default() })]
+
+    /// Every straight, non-exempt triangle has all its angles ≥ arcsin(1/4) in the metric
+    /// of each of its vertices, and the mesh is valid, on random trimmed patches and
+    /// metrics; inputs the validator rejects must be rejected with a typed error.
+    #[test]
+    fn angle_bound_on_random_inputs(
+        n in 3usize..8,
+        radii in prop::collection::vec(0.25f64..0.45, 8),
+        jitter in prop::collection::vec(-1.0f64..1.0, 8),
+        kinds in prop::collection::vec(0u8..3, 8),
+        bulges in prop::collection::vec(-1.0f64..1.0, 8),
+        hole in prop::option::of(0.04f64..0.1),
+        bump in 0.0f64..0.6,
+        metric in metric_strategy(),
+        order in 1u32..=3,
+    ) {
+        let mut pts = Vec::new();
+        for i in 0..4 {
+            for j in 0..4 {
+                let (u, v) = (i as f64 / 3.0, j as f64 / 3.0);
+                let z = if (1..3).contains(&i) && (1..3).contains(&j) { bump } else { 0.0 };
+                pts.push(DVec3::new(u, v, z));
+            }
+        }
+        let mut inp = input(BezierPatch::new(3, 3, pts), metric_of(&metric));
+        let outer = star_loop(n, &radii, &jitter, &kinds, &bulges);
+        // A hole only where it clears every edge and its bulge (a valid input).
+        let clear = |r: f64| outer.iter().all(|c| {
+            let (a, b) = (c.start(), c.end());
+            let d = (b - a).perp_dot(v2(0.5, 0.5) - a) / (b - a).length();
+            d > r + 0.3 * (b - a).length()
+        });
+        add_loop(&mut inp, 0, outer.clone());
+        if let Some(r) = hole.filter(|&r| clear(r)) {
+            add_loop(&mut inp, 0, circle(v2(0.5, 0.5), r, true));
+        }
+        match mesh(&inp, &CurvedOptions::with_order(order)) {
+            Ok(m) => {
+                check_mesh(&inp, &m);
+                check_bound(&m);
+                prop_assert!(m.quality.all_angles.median > 45.0, "{:?}", m.quality.all_angles);
+            }
+            Err(Error::Curved(CurvedError::CurvesIntersect { .. })) => {}
+            Err(e) => prop_assert!(false, "{e}"),
+        }
+    }
+}

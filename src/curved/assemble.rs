@@ -13,6 +13,7 @@ use glam::DVec2;
 use rayon::prelude::*;
 
 use super::bisect::piece_constraints;
+use super::corners::Corners;
 use super::domain::Domain;
 use super::element::{
     collocation_inverse, control_points, lagrange_layout, optimize_interior, ray_map, BezierTriangle,
@@ -60,8 +61,8 @@ impl Assembly {
         self.nodes_uv.len() as u32 - 1
     }
 
-    /// Appends the elements of one refined patch. `exempt` flags vertices at small corners.
-    pub fn add_patch(&mut self, d: &Domain, exempt: &[bool], measure: &Measure) {
+    /// Appends the elements of one refined patch.
+    pub fn add_patch(&mut self, d: &Domain, corners: &Corners, measure: &Measure) {
         let q = self.order;
         let patch = PatchId(d.metric.patch_id);
         let tr = &d.tr;
@@ -89,7 +90,7 @@ impl Assembly {
                 region: RegionId(tr.region[t as usize]),
                 kind: ElementKind::Straight,
                 edge: None,
-                exempt: v.iter().any(|&i| exempt.get(i as usize).copied().unwrap_or(false)),
+                exempt: corners.exempts(d, t),
                 quality: empty_quality(),
             });
             pending.push(Pending::Straight(p, v.map(|i| tr.metric[i as usize])));

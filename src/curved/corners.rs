@@ -21,30 +21,93 @@ pub(crate) fn interior_angle_deg(leaving: DVec2, arriving: DVec2, f: &super::ten
     }
 }
 
-/// Per vertex of `d`: whether it is a loop corner with a small interior angle.
-pub(crate) fn small_corners(d: &Domain, regions: &[u32], small_angle_deg: f64) -> Vec<bool> {
-    let mut out = vec![false; d.tr.vertex_count()];
-    for &r in regions {
-        for lp in &d.input.regions[r as usize].loops {
-            let n = lp.uses.len();
-            for k in 0..n {
-                let (prev, next) = (lp.uses[(k + n - 1) % n], lp.uses[k]);
-                let at = d.input.use_start(next);
-                let Some(v) = d.vertex_at(at) else { continue };
-                let cn = d.input.curve_of(next);
-                let cp = d.input.curve_of(prev);
-                let leaving = cn.derivative(0.0);
-                let arriving = cp.derivative(1.0);
-                let Some(f) = d.tr.metric[v as usize].cholesky() else {
-                    continue;
-                };
-                if interior_angle_deg(leaving, arriving, &f) < small_angle_deg {
-                    out[v as usize] = true;
+/// The small corners of a patch's regions.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct Corners {
+    /// Per vertex: a loop corner with a small interior angle.
+    pub at_vertex: Vec<bool>,
+    /// `(v, a, b)`: the corner vertex and the input curves meeting there.
+    pub pairs: Vec<(u32, u32, u32)>,
+}
+
+impl Corners {
+    /// Finds the loop corners of `regions` whose interior angle in the metric at the corner
+    /// is below `small_angle_deg`.
+    pub fn find(d: &Domain, regions: &[u32], small_angle_deg: f64) -> Corners {
+        let mut c = Corners {
+            at_vertex: vec![false; d.tr.vertex_count()],
+            pairs: Vec::new(),
+        };
+        for &r in regions {
+            for lp in &d.input.regions[r as usize].loops {
+                let n = lp.uses.len();
+                for k in 0..n {
+                    let (prev, next) = (lp.uses[(k + n - 1) % n], lp.uses[k]);
+                    let at = d.input.use_start(next);
+                    let Some(v) = d.vertex_at(at) else { continue };
+                    let leaving = d.input.curve_of(next).derivative(0.0);
+                    let arriving = d.input.curve_of(prev).derivative(1.0);
+                    let Some(f) = d.tr.metric[v as usize].cholesky() else {
+                        continue;
+                    };
+                    if interior_angle_deg(leaving, arriving, &f) < small_angle_deg {
+                        c.at_vertex[v as usize] = true;
+                        c.pairs.push((v, prev.curve.0, next.curve.0));
+                    }
                 }
             }
         }
+        c
     }
-    out
+
+    pub fn is_corner(&self, v: u32) -> bool {
+        self.at_vertex.get(v as usize).copied().unwrap_or(false)
+    }
+
+    /// Whether curves `a` and `b` meet at a small corner.
+    pub fn is_pair(&self, a: u32, b: u32) -> bool {
+        self.pairs
+            .iter()
+            .any(|&(_, x, y)| (x == a && y == b) || (x == b && y == a))
+    }
+
+    /// Whether triangle `t` is exempt from the angle bound: it has a small corner as a
+    /// vertex, or its shortest edge (in the mean metric) spans the two curves of a small
+    /// corner — the wedge's own angle, which no refinement removes (Shewchuk's rule for
+    /// Delaunay refinement with small input angles, [DESIGN]).
+    pub fn exempts(&self, d: &Domain, t: u32) -> bool {
+        if self.pairs.is_empty() {
+            return false;
+        }
+        let v = d.tr.tri(t);
+        if v.iter().any(|&x| self.is_corner(x)) {
+            return true;
+        }
+        let m = v
+            .iter()
+            .fold(super::tensor::Metric2::new(0.0, 0.0, 0.0), |acc, &i| acc.add(&d.tr.metric[i as usize]));
+        let p = v.map(|i| d.tr.pos[i as usize]);
+        let k = (0..3)
+            .min_by(|&i, &j| {
+                m.norm_sq(p[(i + 1) % 3] - p[i])
+                    .total_cmp(&m.norm_sq(p[(j + 1) % 3] - p[j]))
+            })
+            .unwrap_or(0);
+        match (d.curve_of_vertex(v[k]), d.curve_of_vertex(v[(k + 1) % 3])) {
+            (Some(a), Some(b)) => a != b && self.is_pair(a, b),
+            _ => false,
+        }
+    }
+
+    /// Whether an encroachment of a guard edge of `curve` by vertex `w` is the two sides of
+    /// a small corner encroaching each other, which splitting would only repeat forever
+    /// (Ruppert's small-angle problem): ignored.
+    pub fn protects(&self, d: &Domain, curve: u32, w: u32) -> bool {
+        match d.curve_of_vertex(w) {
+            Some(b) => b != curve && self.is_pair(curve, b),
+            None => false,
+        }
+    }
 }
 
 #[cfg(test)]

@@ -70,6 +70,16 @@ impl<'a> Domain<'a> {
         Ok(v)
     }
 
+    /// The input curve a boundary vertex lies on or guards (a curve point or a guard point),
+    /// `None` for sites.
+    pub fn curve_of_vertex(&self, v: u32) -> Option<u32> {
+        match self.kind.get(v as usize)? {
+            VertexKind::Curve { curve, .. } => Some(*curve),
+            VertexKind::Guard { piece, .. } => self.guarded.pieces[*piece as usize].as_ref().map(|p| p.curve),
+            _ => None,
+        }
+    }
+
     /// The curve-point vertex at `p`, if any.
     pub fn vertex_at(&self, p: DVec2) -> Option<u32> {
         self.point_vertex.get(&[p.x.to_bits(), p.y.to_bits()]).copied()
@@ -260,6 +270,12 @@ struct OutgoingCache {
 }
 
 impl OutgoingCache {
+    fn set(&mut self, v: u32, h: u32) {
+        if let Some(x) = self.half.get_mut(v as usize) {
+            *x = h;
+        }
+    }
+
     fn get(&mut self, tr: &Triangulation, v: u32) -> Option<u32> {
         let fresh = |h: u32| h != NONE && tr.alive[tri_of(h) as usize] && tr.vert[h as usize] == v;
         if let Some(&h) = self.half.get(v as usize) {
@@ -280,8 +296,44 @@ impl OutgoingCache {
     }
 }
 
-/// Makes `a → b` an edge carrying constraint `c` (Sloan's flip algorithm: flip the edges the
-/// segment crosses while their quadrilaterals are convex).
+/// The half-edge `x → y`, by turning around `x` from a cached outgoing half-edge.
+fn find_half(tr: &Triangulation, cache: &mut OutgoingCache, x: u32, y: u32) -> Option<u32> {
+    let start = cache.get(tr, x)?;
+    let mut h = start;
+    // Counter-clockwise around x: twin(prev(h)) leaves x too.
+    loop {
+        if tr.dest(h) == y {
+            return Some(h);
+        }
+        let g = tr.twin[prev(h) as usize];
+        if g == NONE {
+            break;
+        }
+        h = g;
+        if h == start {
+            return None;
+        }
+    }
+    // Hit a boundary: go clockwise from the start instead.
+    let mut h = start;
+    loop {
+        let g = tr.twin[h as usize];
+        if g == NONE {
+            return None;
+        }
+        h = next(g);
+        if tr.dest(h) == y {
+            return Some(h);
+        }
+        if h == start {
+            return None;
+        }
+    }
+}
+
+/// Makes `a → b` an edge carrying constraint `c`: Sloan's algorithm (1993) — list the edges
+/// the segment crosses, flip each whose quadrilateral is convex, put back the others and the
+/// new diagonals that still cross. Every decision is exact.
 fn recover(tr: &mut Triangulation, cache: &mut OutgoingCache, a: u32, b: u32, c: u32) -> Result<(), Error> {
     let pa = tr.pos[a as usize];
     let pb = tr.pos[b as usize];
@@ -291,81 +343,104 @@ fn recover(tr: &mut Triangulation, cache: &mut OutgoingCache, a: u32, b: u32, c:
             pa.x, pa.y, pb.x, pb.y
         ))
     };
-    let mut rounds = 0usize;
+    let mark = |tr: &mut Triangulation, h: u32| {
+        tr.cons[h as usize] = c;
+        let g = tr.twin[h as usize];
+        if g != NONE {
+            tr.cons[g as usize] = c;
+        }
+        tr.constraints[c as usize].half = h;
+    };
+    if let Some(h) = find_half(tr, cache, a, b) {
+        mark(tr, h);
+        return Ok(());
+    }
+    // The wedge at a the segment enters.
+    let start = cache.get(tr, a).ok_or_else(|| internal("its first vertex is in no triangle"))?;
+    let mut h = start;
+    let mut e = NONE;
     loop {
-        rounds += 1;
-        if rounds > 4 * tr.alive_count + 64 {
+        let (x, y) = (tr.dest(h), tr.apex(h));
+        let ox = orient(pa, tr.pos[x as usize], pb);
+        let oy = orient(pa, tr.pos[y as usize], pb);
+        if (ox == 0.0 && (tr.pos[x as usize] - pa).dot(pb - pa) > 0.0)
+            || (oy == 0.0 && (tr.pos[y as usize] - pa).dot(pb - pa) > 0.0)
+        {
+            return Err(internal("a vertex lies on it"));
+        }
+        if ox > 0.0 && oy < 0.0 {
+            e = next(h);
+            break;
+        }
+        let g = tr.twin[prev(h) as usize];
+        if g == NONE || g == start {
+            break;
+        }
+        h = g;
+    }
+    if e == NONE {
+        return Err(internal("no triangle around its first vertex points at its second"));
+    }
+    // The crossed edges, from a to b, as vertex pairs (half-edges move when flipped).
+    let mut crossed: std::collections::VecDeque<(u32, u32)> = std::collections::VecDeque::new();
+    loop {
+        if tr.cons[e as usize] != NONE {
+            return Err(internal("it crosses another guard edge"));
+        }
+        crossed.push_back((tr.vert[e as usize], tr.dest(e)));
+        let g = tr.twin[e as usize];
+        if g == NONE {
+            return Err(internal("it leaves the triangulation"));
+        }
+        let z = tr.apex(g);
+        if z == b {
+            break;
+        }
+        let oz = orient(pa, tr.pos[z as usize], pb);
+        if oz == 0.0 {
+            return Err(internal("a vertex lies on it"));
+        }
+        e = if oz > 0.0 { prev(g) } else { next(g) };
+    }
+    let limit = 64 * crossed.len() * crossed.len() + 1024;
+    let mut steps = 0;
+    while let Some((x, y)) = crossed.pop_front() {
+        steps += 1;
+        if steps > limit {
             return Err(internal("the flips do not end"));
         }
-        let start = cache.get(tr, a).ok_or_else(|| internal("its first vertex is in no triangle"))?;
-        // Around a, counter-clockwise: find the edge a → b, or the wedge the segment enters.
-        let mut h = start;
-        let mut crossing = NONE;
-        loop {
-            let x = tr.dest(h);
-            if x == b {
-                tr.cons[h as usize] = c;
-                let g = tr.twin[h as usize];
-                if g != NONE {
-                    tr.cons[g as usize] = c;
-                }
-                tr.constraints[c as usize].half = h;
-                return Ok(());
-            }
-            let y = tr.apex(h);
-            let (px, py) = (tr.pos[x as usize], tr.pos[y as usize]);
-            let ox = orient(pa, px, pb);
-            let oy = orient(pa, py, pb);
-            if ox == 0.0 && (px - pa).dot(pb - pa) > 0.0 {
-                return Err(internal("a vertex lies on it"));
-            }
-            if ox > 0.0 && oy < 0.0 {
-                crossing = next(h);
-                break;
-            }
-            let g = tr.twin[prev(h) as usize];
-            if g == NONE {
-                break;
-            }
-            h = g;
-            if h == start {
-                break;
+        let h = find_half(tr, cache, x, y).ok_or_else(|| internal("a crossed edge vanished"))?;
+        if !tr.flippable(h) {
+            crossed.push_back((x, y));
+            continue;
+        }
+        let g = tr.twin[h as usize];
+        let (t1, t2) = (tri_of(h), tri_of(g));
+        tr.flip(h);
+        // t1 = (a', d, c'), t2 = (d, b', c') after the flip: refresh the cache of all four.
+        for t in [t1, t2] {
+            for k in 0..3 {
+                let e = 3 * t + k;
+                cache.set(tr.vert[e as usize], e);
             }
         }
-        if crossing == NONE {
-            return Err(internal("no triangle around its first vertex points at its second"));
-        }
-        // Walk the crossed edges; flip the first flippable one and start again.
-        let mut e = crossing;
-        let mut flipped = false;
-        loop {
-            if tr.cons[e as usize] != NONE {
-                return Err(internal("it crosses another guard edge"));
-            }
-            if tr.flippable(e) {
-                tr.flip(e);
-                flipped = true;
-                break;
-            }
-            let g = tr.twin[e as usize];
-            if g == NONE {
-                return Err(internal("it leaves the triangulation"));
-            }
-            let z = tr.apex(g);
-            if z == b {
-                break;
-            }
-            let oz = orient(pa, tr.pos[z as usize], pb);
-            if oz == 0.0 {
-                return Err(internal("a vertex lies on it"));
-            }
-            // The segment leaves triangle g through the edge whose ends straddle it.
-            e = if oz > 0.0 { prev(g) } else { next(g) };
-        }
-        if !flipped {
-            return Err(internal("no crossed edge can be flipped"));
+        let e1 = 3 * t1 + 1;
+        let (u, w) = (tr.vert[e1 as usize], tr.dest(e1));
+        let (pu, pw) = (tr.pos[u as usize], tr.pos[w as usize]);
+        let crosses = u != a && u != b && w != a && w != b && {
+            let o1 = orient(pa, pb, pu);
+            let o2 = orient(pa, pb, pw);
+            let o3 = orient(pu, pw, pa);
+            let o4 = orient(pu, pw, pb);
+            o1 * o2 < 0.0 && o3 * o4 < 0.0
+        };
+        if crosses {
+            crossed.push_back((u, w));
         }
     }
+    let h = find_half(tr, cache, a, b).ok_or_else(|| internal("still missing after the flips"))?;
+    mark(tr, h);
+    Ok(())
 }
 
 /// Flood-fills each region from its chain edges without crossing constraints; anything a

@@ -138,8 +138,8 @@ pub fn mesh(input: &TrimmedPatches, options: &CurvedOptions) -> crate::Result<Cu
             options.clamp(),
         );
         let mut d = domain::build(input, &regions, metric, guarded)?;
-        let corner = corners::small_corners(&d, &regions, options.small_angle_deg);
-        let mut refiner = refine::Refiner::new(&d, options, corner);
+        let corners = corners::Corners::find(&d, &regions, options.small_angle_deg);
+        let mut refiner = refine::Refiner::new(&d, options, corners);
         refiner.run(&mut d)?;
         unfold_curved_elements(&mut d, &mut refiner, options.order)?;
         stats.seconds_refine += t.elapsed().as_secs_f64();
@@ -158,7 +158,7 @@ pub fn mesh(input: &TrimmedPatches, options: &CurvedOptions) -> crate::Result<Cu
             samples: options.angle_samples,
             sampled: options.sampled_quality,
         };
-        assembly.add_patch(&d, &refiner.corner, &measure);
+        assembly.add_patch(&d, &refiner.corners, &measure);
         stats.seconds_output += t.elapsed().as_secs_f64();
     }
     let t = Instant::now();

@@ -33,6 +33,7 @@ use glam::DVec2;
 
 use super::angles::angles_at_least;
 use super::bisect::{bisect, Bisected};
+use super::corners::Corners;
 use super::domain::{Domain, VertexKind};
 use super::error::CurvedError;
 use super::options::CurvedOptions;
@@ -154,8 +155,8 @@ pub(crate) struct Refiner<'o> {
     cav: Cavity,
     out: Vec<u32>,
     cos_min: f64,
-    /// Per vertex: at a small input corner (triangles there are exempt).
-    pub corner: Vec<bool>,
+    /// The small input corners (triangles there are exempt).
+    pub corners: Corners,
     /// Per triangle slot: left bad on purpose (see [`RefineStats::unresolved`]).
     pub unresolved: Vec<bool>,
     pub stats: RefineStats,
@@ -164,7 +165,7 @@ pub(crate) struct Refiner<'o> {
 }
 
 impl<'o> Refiner<'o> {
-    pub fn new(d: &Domain, opts: &'o CurvedOptions, corner: Vec<bool>) -> Self {
+    pub fn new(d: &Domain, opts: &'o CurvedOptions, corners: Corners) -> Self {
         let boundary = d.tr.vertex_count() as u64;
         let max_sites = opts.max_sites.unwrap_or(10 * boundary + 1_000_000);
         Refiner {
@@ -173,7 +174,7 @@ impl<'o> Refiner<'o> {
             cav: Cavity::default(),
             out: Vec::new(),
             cos_min: (1.0 / (2.0 * opts.radius_edge_bound)).asin().cos(),
-            corner,
+            corners,
             unresolved: Vec::new(),
             stats: RefineStats::default(),
             max_sites,
@@ -182,7 +183,7 @@ impl<'o> Refiner<'o> {
     }
 
     fn is_exempt(&self, d: &Domain, t: u32) -> bool {
-        d.tr.tri(t).iter().any(|&v| self.corner.get(v as usize).copied().unwrap_or(false))
+        self.corners.exempts(d, t)
     }
 
     /// The violation of triangle `t`, if any: `(class, key)`.
@@ -298,10 +299,8 @@ impl<'o> Refiner<'o> {
                     }
                     let w = d.tr.apex(con.half);
                     let apex = d.tr.pos[w as usize];
-                    if let Some(v) = self.corner_of_piece(d, con.piece) {
-                        if self.on_other_corner_piece(d, v, w, con.piece) {
-                            continue;
-                        }
+                    if self.corners.protects(d, d.guarded.piece(con.piece).curve, w) {
+                        continue;
                     }
                     if self.encroached(d, c, apex) {
                         if std::env::var_os("KATACHI_CURVED_TRACE").is_some() && trace_on(self.stats.bisections) {
@@ -423,25 +422,6 @@ impl<'o> Refiner<'o> {
         x.is_finite().then_some(x)
     }
 
-    /// The small corner `v` at an end of `piece`, if any.
-    fn corner_of_piece(&self, d: &Domain, piece: u32) -> Option<u32> {
-        let [p0, pd, _, _] = d.piece_verts[piece as usize];
-        [p0, pd]
-            .into_iter()
-            .find(|&v| self.corner.get(v as usize).copied().unwrap_or(false))
-    }
-
-    /// Whether vertex `w` belongs to another piece that also ends at the small corner `v`
-    /// (the two chains at a small angle encroach each other without end, spec §4.3).
-    fn on_other_corner_piece(&self, d: &Domain, v: u32, w: u32, piece: u32) -> bool {
-        d.guarded.pieces.iter().enumerate().any(|(j, p)| {
-            p.is_some() && j as u32 != piece && {
-                let pv = d.piece_verts[j];
-                (pv[0] == v || pv[1] == v) && pv.contains(&w)
-            }
-        })
-    }
-
     /// Inserts a point for bad or big triangle `t` — its off-centre (bad) or Voronoi vertex
     /// (big), else its centroid — or splits the guard edge the point encroaches.
     fn fix_triangle(&mut self, d: &mut Domain, t: u32) -> Result<(), Error> {
@@ -451,7 +431,6 @@ impl<'o> Refiner<'o> {
         let Some((class, _)) = self.assess(d, t) else {
             return Ok(());
         };
-        let exempt = self.is_exempt(d, t);
         let first = if class == BAD {
             self.off_center(d, t)
         } else {
@@ -468,7 +447,7 @@ impl<'o> Refiner<'o> {
                 Located::OnEdge(h) | Located::Blocked(h) => {
                     // Beyond a guard edge: split it if the point encroaches it (Ruppert).
                     let k = d.tr.cons[h as usize];
-                    if k != NONE && !exempt && self.encroached(d, k, cand) {
+                    if k != NONE && self.encroached(d, k, cand) {
                         let piece = d.tr.constraints[k as usize].piece;
                         if !self.split_piece(d, piece, Some(t))? {
                             self.give_up(d, t);
@@ -490,9 +469,6 @@ impl<'o> Refiner<'o> {
                 .find(|&k| k != NONE && self.encroached(d, k, cand));
             if let Some(k) = enc {
                 self.cav = cav;
-                if exempt {
-                    break;
-                }
                 let piece = d.tr.constraints[k as usize].piece;
                 if !self.split_piece(d, piece, Some(t))? {
                     self.give_up(d, t);
@@ -531,9 +507,6 @@ impl<'o> Refiner<'o> {
                 // again, its centroid comes next.
                 self.push_triangle(d, t);
             }
-            return Ok(());
-        }
-        if exempt {
             return Ok(());
         }
         self.give_up(d, t);

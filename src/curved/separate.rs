@@ -126,6 +126,24 @@ impl GuardedCurves {
         Ok(out)
     }
 
+    /// [`Self::split`] for the separation loop: `Err(None)` when a half cannot be guarded
+    /// because it sits at the split depth cap (the caller reports why it was being split),
+    /// `Err(Some(_))` for other errors. The piece is kept on `Err(None)`.
+    pub fn split_checked(&mut self, id: u32) -> Result<Vec<u32>, Option<CurvedError>> {
+        let depth = self.piece(id).depth;
+        let saved = self.pieces[id as usize].clone();
+        let before = self.pieces.len();
+        match self.split(id) {
+            Ok(v) => Ok(v),
+            Err(CurvedError::SingularCurve { .. }) if depth + 1 >= self.params.max_depth.saturating_sub(8) => {
+                self.pieces.truncate(before);
+                self.pieces[id as usize] = saved;
+                Err(None)
+            }
+            Err(e) => Err(Some(e)),
+        }
+    }
+
     pub fn piece(&self, id: u32) -> &Piece {
         self.pieces[id as usize].as_ref().expect("a dead piece")
     }
@@ -194,6 +212,10 @@ pub(crate) fn guard_and_separate(
             let (pa, pb) = (g.piece(a), g.piece(b));
             let pick = if (pa.size(), a) >= (pb.size(), b) { a } else { b };
             let other = if pick == a { b } else { a };
+            if std::env::var_os("KATACHI_CURVED_TRACE").is_some() && g.piece(pick).depth >= params.max_depth - 2 {
+                let (pa, pb) = (g.piece(a), g.piece(b));
+                eprintln!("meet: {a} (curve {} [{}, {}] env {:?}) and {b} (curve {} [{}, {}] env {:?})", pa.curve, pa.t0(), pa.t1(), pa.envelope(), pb.curve, pb.t0(), pb.t1(), pb.envelope());
+            }
             if g.piece(pick).depth >= params.max_depth {
                 return Err(unresolvable(&g, pick, other));
             }
@@ -205,7 +227,17 @@ pub(crate) fn guard_and_separate(
             if g.pieces[id as usize].is_none() {
                 continue;
             }
-            for new in g.split(id)? {
+            let partner = pairs
+                .iter()
+                .find_map(|&(a, b)| if a == id { Some(b) } else if b == id { Some(a) } else { None })
+                .unwrap_or(id);
+            let halves = match g.split_checked(id) {
+                Ok(h) => h,
+                // A half that rounding made unguardable at the depth cap: the curves meet.
+                Err(Some(e)) => return Err(e),
+                Err(None) => return Err(unresolvable(&g, id, partner)),
+            };
+            for new in halves {
                 if new as usize >= dirty.len() {
                     dirty.resize(new as usize + 1, false);
                 }

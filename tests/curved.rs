@@ -26,7 +26,11 @@ fn bumpy_patch() -> BezierPatch {
     for i in 0..4 {
         for j in 0..4 {
             let (u, v) = (i as f64 / 3.0, j as f64 / 3.0);
-            let z = if (1..3).contains(&i) && (1..3).contains(&j) { 0.4 } else { 0.0 };
+            let z = if (1..3).contains(&i) && (1..3).contains(&j) {
+                0.4
+            } else {
+                0.0
+            };
             pts.push(DVec3::new(u, v, z + 0.1 * u * v));
         }
     }
@@ -103,17 +107,33 @@ fn check_mesh(inp: &TrimmedPatches, m: &CurvedMesh) {
     let mut uses: HashMap<(u32, u32), Vec<usize>> = HashMap::new();
     for e in 0..m.element_count() {
         let n = m.element(e);
-        let (a, b, c) = (m.nodes_uv[n[0] as usize], m.nodes_uv[n[1] as usize], m.nodes_uv[n[2] as usize]);
+        let (a, b, c) = (
+            m.nodes_uv[n[0] as usize],
+            m.nodes_uv[n[1] as usize],
+            m.nodes_uv[n[2] as usize],
+        );
         if m.info[e].kind == ElementKind::Straight {
-            assert!((b - a).perp_dot(c - a) > 0.0, "element {e} is not counter-clockwise");
+            assert!(
+                (b - a).perp_dot(c - a) > 0.0,
+                "element {e} is not counter-clockwise"
+            );
         }
         for k in 0..3 {
             uses.entry((n[k], n[(k + 1) % 3])).or_default().push(e);
         }
-        assert!(m.info[e].quality.scaled_jacobian > 0.0, "element {e} (order {q}) is inverted: {:?}", m.info[e]);
+        assert!(
+            m.info[e].quality.scaled_jacobian > 0.0,
+            "element {e} (order {q}) is inverted: {:?}",
+            m.info[e]
+        );
     }
     for (&(x, y), list) in &uses {
-        assert_eq!(list.len(), 1, "edge {x}→{y} is used {} times in one direction", list.len());
+        assert_eq!(
+            list.len(),
+            1,
+            "edge {x}→{y} is used {} times in one direction",
+            list.len()
+        );
         if !uses.contains_key(&(y, x)) {
             // A boundary edge: a curved element's edge 0, or on a straight input curve.
             let e = list[0];
@@ -126,12 +146,17 @@ fn check_mesh(inp: &TrimmedPatches, m: &CurvedMesh) {
                     (r - p).perp_dot(a - p).abs() < 1e-12 && (r - p).perp_dot(b - p).abs() < 1e-12
                 }
             });
-            assert!(curved_edge || on_line, "boundary edge {x}→{y} ({a:?} → {b:?}) is on no input curve");
+            assert!(
+                curved_edge || on_line,
+                "boundary edge {x}→{y} ({a:?} → {b:?}) is on no input curve"
+            );
         }
     }
     // Per region: Euler characteristic and area.
     for (r, region) in inp.regions.iter().enumerate() {
-        let elems: Vec<usize> = (0..m.element_count()).filter(|&e| m.info[e].region.0 == r as u32).collect();
+        let elems: Vec<usize> = (0..m.element_count())
+            .filter(|&e| m.info[e].region.0 == r as u32)
+            .collect();
         let mut verts = std::collections::HashSet::new();
         let mut edges = std::collections::HashSet::new();
         for &e in &elems {
@@ -143,9 +168,18 @@ fn check_mesh(inp: &TrimmedPatches, m: &CurvedMesh) {
             }
         }
         let chi = verts.len() as i64 - edges.len() as i64 + elems.len() as i64;
-        assert_eq!(chi, 1 - (region.loops.len() as i64 - 1), "region {r}: V − E + F");
+        assert_eq!(
+            chi,
+            1 - (region.loops.len() as i64 - 1),
+            "region {r}: V − E + F"
+        );
         // Exact only when the elements reproduce the curves (order ≥ degree, spec §7.6).
-        let max_degree = inp.curves.iter().map(|c| c.degree() as u32).max().unwrap_or(1);
+        let max_degree = inp
+            .curves
+            .iter()
+            .map(|c| c.degree() as u32)
+            .max()
+            .unwrap_or(1);
         if q >= max_degree {
             let area: f64 = elems.iter().map(|&e| m.element_area_uv(e)).sum();
             let exact = inp.region_area(RegionId(r as u32));
@@ -163,14 +197,21 @@ fn check_mesh(inp: &TrimmedPatches, m: &CurvedMesh) {
         let edge: Vec<u32> = if q == 1 {
             vec![n[0], n[1]]
         } else {
-            std::iter::once(n[0]).chain(n[3..3 + (q as usize - 1)].iter().copied()).chain([n[1]]).collect()
+            std::iter::once(n[0])
+                .chain(n[3..3 + (q as usize - 1)].iter().copied())
+                .chain([n[1]])
+                .collect()
         };
         for (k, &node) in edge.iter().enumerate() {
             let s = k as f64 / q as f64;
             let s = if ce.reversed { 1.0 - s } else { s };
             let t = ce.t0 + s * (ce.t1 - ce.t0);
             let d = (m.nodes_uv[node as usize] - c.eval(t)).length();
-            assert!(d < 1e-14, "element {e} node {k}: {d} from curve {} at t = {t}", ce.curve.0);
+            assert!(
+                d < 1e-14,
+                "element {e} node {k}: {d} from curve {} at t = {t}",
+                ce.curve.0
+            );
         }
     }
     // xyz is P(uv).
@@ -209,7 +250,20 @@ fn loop_not_closed_names_the_curves() {
         loops: vec![TrimLoop::new((0..3).map(CurveUse::forward).collect())],
     });
     let e = curved_error(mesh(&inp, &CurvedOptions::default()));
-    assert!(matches!(e, CurvedError::LoopNotClosed { region: 0, loop_index: 0, position: 2, curve: 2, next_curve: 0, .. }), "{e}");
+    assert!(
+        matches!(
+            e,
+            CurvedError::LoopNotClosed {
+                region: 0,
+                loop_index: 0,
+                position: 2,
+                curve: 2,
+                next_curve: 0,
+                ..
+            }
+        ),
+        "{e}"
+    );
     assert!(e.to_string().contains("region 0, loop 0"));
 }
 
@@ -218,7 +272,17 @@ fn clockwise_outer_loop_is_rejected() {
     let mut inp = input(flat_patch(), MetricField::isotropic(0.2));
     inp.add_polygon_region(0, &[v2(0.1, 0.1), v2(0.1, 0.9), v2(0.9, 0.9)]);
     let e = curved_error(mesh(&inp, &CurvedOptions::default()));
-    assert!(matches!(e, CurvedError::LoopOrientation { region: 0, loop_index: 0, .. }), "{e}");
+    assert!(
+        matches!(
+            e,
+            CurvedError::LoopOrientation {
+                region: 0,
+                loop_index: 0,
+                ..
+            }
+        ),
+        "{e}"
+    );
 }
 
 #[test]
@@ -235,7 +299,10 @@ fn singular_curve_is_rejected() {
         loops: vec![TrimLoop::new((0..3).map(CurveUse::forward).collect())],
     });
     let e = curved_error(mesh(&inp, &CurvedOptions::default()));
-    assert!(matches!(e, CurvedError::SingularCurve { curve: 0, .. }), "{e}");
+    assert!(
+        matches!(e, CurvedError::SingularCurve { curve: 0, .. }),
+        "{e}"
+    );
 }
 
 #[test]
@@ -244,7 +311,7 @@ fn zero_angle_is_rejected() {
     // Two quadratics leave (0.1, 0.5) both heading along +x.
     inp.curves = vec![
         BezierCurve::new(vec![v2(0.1, 0.5), v2(0.5, 0.5), v2(0.9, 0.2)]),
-        BezierCurve::new(vec![v2(0.9, 0.2), v2(0.9, 0.8)].to_vec()),
+        BezierCurve::line(v2(0.9, 0.2), v2(0.9, 0.8)),
         BezierCurve::new(vec![v2(0.9, 0.8), v2(0.5, 0.5), v2(0.1, 0.5)]),
     ];
     inp.regions.push(Region {
@@ -252,7 +319,10 @@ fn zero_angle_is_rejected() {
         loops: vec![TrimLoop::new((0..3).map(CurveUse::forward).collect())],
     });
     let e = curved_error(mesh(&inp, &CurvedOptions::default()));
-    assert!(matches!(e, CurvedError::ZeroAngle { a: 0, b: 2, .. }), "{e}");
+    assert!(
+        matches!(e, CurvedError::ZeroAngle { a: 0, b: 2, .. }),
+        "{e}"
+    );
 }
 
 #[test]
@@ -263,14 +333,23 @@ fn crossing_curves_are_rejected() {
     let r = mesh(&inp, &CurvedOptions::default());
     let e = curved_error(r);
     assert!(
-        matches!(e, CurvedError::CurvesIntersect { .. } | CurvedError::LoopOrientation { .. }),
+        matches!(
+            e,
+            CurvedError::CurvesIntersect { .. } | CurvedError::LoopOrientation { .. }
+        ),
         "{e}"
     );
     // A loop that crosses itself with the right orientation.
     let mut inp = input(flat_patch(), MetricField::isotropic(0.2));
     inp.add_polygon_region(
         0,
-        &[v2(0.1, 0.1), v2(0.9, 0.1), v2(0.9, 0.9), v2(0.5, 0.05), v2(0.1, 0.9)],
+        &[
+            v2(0.1, 0.1),
+            v2(0.9, 0.1),
+            v2(0.9, 0.9),
+            v2(0.5, 0.05),
+            v2(0.1, 0.9),
+        ],
     );
     let e = curved_error(mesh(&inp, &CurvedOptions::default()));
     assert!(matches!(e, CurvedError::CurvesIntersect { .. }), "{e}");
@@ -283,12 +362,18 @@ fn private_copies_of_a_shared_curve_are_rejected() {
     inp.add_polygon_region(0, &[v2(0.5, 0.1), v2(0.9, 0.1), v2(0.9, 0.9), v2(0.5, 0.9)]);
     // Curves 1 (0.5,0.1)→(0.5,0.9) and 7 (0.5,0.9)→(0.5,0.1) are the same segment.
     let e = curved_error(mesh(&inp, &CurvedOptions::default()));
-    assert!(matches!(e, CurvedError::DuplicateCurve { a: 1, b: 7 }), "{e}");
+    assert!(
+        matches!(e, CurvedError::DuplicateCurve { a: 1, b: 7 }),
+        "{e}"
+    );
 }
 
 #[test]
 fn bad_metrics_are_rejected() {
-    let mut inp = input(flat_patch(), MetricField::Constant(Metric3::new(1.0, 2.0, 0.0, 1.0, 0.0, 1.0)));
+    let mut inp = input(
+        flat_patch(),
+        MetricField::Constant(Metric3::new(1.0, 2.0, 0.0, 1.0, 0.0, 1.0)),
+    );
     inp.add_polygon_region(0, &[v2(0.1, 0.1), v2(0.9, 0.1), v2(0.5, 0.9)]);
     let e = curved_error(mesh(&inp, &CurvedOptions::default()));
     assert!(matches!(e, CurvedError::InvalidMetric { .. }), "{e}");
@@ -309,7 +394,10 @@ fn degenerate_patch_is_rejected() {
     let mut inp = input(patch, MetricField::isotropic(0.1));
     inp.add_polygon_region(0, &[v2(0.0, 0.0), v2(1.0, 0.0), v2(1.0, 1.0), v2(0.0, 1.0)]);
     let e = curved_error(mesh(&inp, &CurvedOptions::default()));
-    assert!(matches!(e, CurvedError::DegenerateSurface { patch: 0, .. }), "{e}");
+    assert!(
+        matches!(e, CurvedError::DegenerateSurface { patch: 0, .. }),
+        "{e}"
+    );
     // Away from the collapsed edge it meshes.
     let mut inp = inp.clone();
     inp.curves.clear();
@@ -324,10 +412,22 @@ fn invalid_options_are_rejected() {
     let inp = square_with_circle_hole(MetricField::isotropic(0.1));
     let mut o = CurvedOptions::default();
     o.order = 0;
-    assert!(matches!(mesh(&inp, &o), Err(Error::InvalidOption { option: "order", .. })));
+    assert!(matches!(
+        mesh(&inp, &o),
+        Err(Error::InvalidOption {
+            option: "order",
+            ..
+        })
+    ));
     let mut o = CurvedOptions::default();
     o.radius_edge_bound = 1.0;
-    assert!(matches!(mesh(&inp, &o), Err(Error::InvalidOption { option: "radius_edge_bound", .. })));
+    assert!(matches!(
+        mesh(&inp, &o),
+        Err(Error::InvalidOption {
+            option: "radius_edge_bound",
+            ..
+        })
+    ));
 }
 
 // ---- meshing ----
@@ -339,14 +439,22 @@ fn square_with_a_circular_hole() {
         let m = mesh(&inp, &CurvedOptions::with_order(order)).unwrap();
         check_mesh(&inp, &m);
         check_bound(&m);
-        assert!(m.quality.all_angles.median > 50.0, "{:?}", m.quality.all_angles);
+        assert!(
+            m.quality.all_angles.median > 50.0,
+            "{:?}",
+            m.quality.all_angles
+        );
         assert!(m.info.iter().any(|i| i.kind == ElementKind::Curved));
     }
 }
 
 #[test]
 fn constant_anisotropic_metric() {
-    let metric = MetricField::Constant(Metric3::from_direction(DVec3::new(1.0, 0.3, 0.0), 0.2, 0.02));
+    let metric = MetricField::Constant(Metric3::from_direction(
+        DVec3::new(1.0, 0.3, 0.0),
+        0.2,
+        0.02,
+    ));
     let inp = square_with_circle_hole(metric);
     let m = mesh(&inp, &CurvedOptions::with_order(2)).unwrap();
     check_mesh(&inp, &m);
@@ -438,19 +546,34 @@ fn two_regions_share_a_curve() {
 fn same_bits_every_run_and_thread_count() {
     let inp = square_with_circle_hole(MetricField::isotropic(0.05));
     let run = |threads: usize| {
-        let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
         pool.install(|| mesh(&inp, &CurvedOptions::with_order(3)).unwrap())
     };
     let a = run(1);
     let b = run(4);
     assert_eq!(a.elements, b.elements);
     assert_eq!(
-        a.nodes_uv.iter().map(|p| [p.x.to_bits(), p.y.to_bits()]).collect::<Vec<_>>(),
-        b.nodes_uv.iter().map(|p| [p.x.to_bits(), p.y.to_bits()]).collect::<Vec<_>>()
+        a.nodes_uv
+            .iter()
+            .map(|p| [p.x.to_bits(), p.y.to_bits()])
+            .collect::<Vec<_>>(),
+        b.nodes_uv
+            .iter()
+            .map(|p| [p.x.to_bits(), p.y.to_bits()])
+            .collect::<Vec<_>>()
     );
     assert_eq!(
-        a.nodes_xyz.iter().map(|p| p.to_array().map(f64::to_bits)).collect::<Vec<_>>(),
-        b.nodes_xyz.iter().map(|p| p.to_array().map(f64::to_bits)).collect::<Vec<_>>()
+        a.nodes_xyz
+            .iter()
+            .map(|p| p.to_array().map(f64::to_bits))
+            .collect::<Vec<_>>(),
+        b.nodes_xyz
+            .iter()
+            .map(|p| p.to_array().map(f64::to_bits))
+            .collect::<Vec<_>>()
     );
 }
 
@@ -460,7 +583,16 @@ fn site_budget_is_a_typed_error() {
     let mut o = CurvedOptions::default();
     o.max_sites = Some(2000);
     let e = curved_error(mesh(&inp, &o));
-    assert!(matches!(e, CurvedError::Budget { option: "max_sites", .. }), "{e}");
+    assert!(
+        matches!(
+            e,
+            CurvedError::Budget {
+                option: "max_sites",
+                ..
+            }
+        ),
+        "{e}"
+    );
 }
 
 // ---- the angle bound over random metrics and domains (spec §7.10) ----
@@ -476,7 +608,13 @@ fn cases() -> u32 {
 
 /// A random star-shaped trim loop around (0.5, 0.5): `n` corners at radii in [0.25, 0.45],
 /// each edge a line, quadratic or cubic bulging by up to a fifth of its length.
-fn star_loop(n: usize, radii: &[f64], jitter: &[f64], kinds: &[u8], bulges: &[f64]) -> Vec<BezierCurve> {
+fn star_loop(
+    n: usize,
+    radii: &[f64],
+    jitter: &[f64],
+    kinds: &[u8],
+    bulges: &[f64],
+) -> Vec<BezierCurve> {
     let c = v2(0.5, 0.5);
     let pts: Vec<DVec2> = (0..n)
         .map(|i| {
@@ -491,7 +629,12 @@ fn star_loop(n: usize, radii: &[f64], jitter: &[f64], kinds: &[u8], bulges: &[f6
             match kinds[i] % 3 {
                 0 => BezierCurve::line(a, b),
                 1 => BezierCurve::new(vec![a, 0.5 * (a + b) + 2.0 * normal, b]),
-                _ => BezierCurve::new(vec![a, a + (b - a) / 3.0 + 1.5 * normal, a + 2.0 * (b - a) / 3.0 - 0.5 * normal, b]),
+                _ => BezierCurve::new(vec![
+                    a,
+                    a + (b - a) / 3.0 + 1.5 * normal,
+                    a + 2.0 * (b - a) / 3.0 - 0.5 * normal,
+                    b,
+                ]),
             }
         })
         .collect()
@@ -500,17 +643,31 @@ fn star_loop(n: usize, radii: &[f64], jitter: &[f64], kinds: &[u8], bulges: &[f6
 #[derive(Debug, Clone)]
 enum MetricKind {
     Isotropic(f64),
-    Directional { h: f64, ratio: f64, dir: [f64; 3] },
-    Rotating { h: f64, ratio: f64, start: f64, turn: f64 },
+    Directional {
+        h: f64,
+        ratio: f64,
+        dir: [f64; 3],
+    },
+    Rotating {
+        h: f64,
+        ratio: f64,
+        start: f64,
+        turn: f64,
+    },
 }
 
 fn metric_of(k: &MetricKind) -> MetricField {
     match *k {
         MetricKind::Isotropic(h) => MetricField::isotropic(h),
-        MetricKind::Directional { h, ratio, dir } => {
-            MetricField::Constant(Metric3::from_direction(DVec3::from_array(dir), h * ratio, h))
-        }
-        MetricKind::Rotating { h, ratio, start, turn } => {
+        MetricKind::Directional { h, ratio, dir } => MetricField::Constant(
+            Metric3::from_direction(DVec3::from_array(dir), h * ratio, h),
+        ),
+        MetricKind::Rotating {
+            h,
+            ratio,
+            start,
+            turn,
+        } => {
             // Parameter space: the long axis turns by `turn` (at most π/2) across the square.
             MetricField::ParameterFunction(std::sync::Arc::new(move |p: DVec2| {
                 let a = start + turn * 0.5 * (p.x + p.y);
@@ -523,11 +680,26 @@ fn metric_of(k: &MetricKind) -> MetricField {
 fn metric_strategy() -> impl Strategy<Value = MetricKind> {
     prop_oneof![
         (0.04f64..0.1).prop_map(MetricKind::Isotropic),
-        (0.015f64..0.05, 1.0f64..10.0, prop::array::uniform3(-1.0f64..1.0))
-            .prop_filter("a direction", |(_, _, d)| DVec3::from_array(*d).length() > 0.1)
+        (
+            0.015f64..0.05,
+            1.0f64..10.0,
+            prop::array::uniform3(-1.0f64..1.0)
+        )
+            .prop_filter("a direction", |(_, _, d)| DVec3::from_array(*d).length()
+                > 0.1)
             .prop_map(|(h, ratio, dir)| MetricKind::Directional { h, ratio, dir }),
-        (0.015f64..0.05, 1.0f64..5.0, 0.0f64..3.2, 0.0f64..1.5708)
-            .prop_map(|(h, ratio, start, turn)| MetricKind::Rotating { h, ratio, start, turn }),
+        (
+            0.015f64..0.05,
+            1.0f64..5.0,
+            0.0f64..3.2,
+            0.0f64..std::f64::consts::FRAC_PI_2
+        )
+            .prop_map(|(h, ratio, start, turn)| MetricKind::Rotating {
+                h,
+                ratio,
+                start,
+                turn
+            }),
     ]
 }
 

@@ -5,6 +5,7 @@ use glam::DVec2;
 use super::tensor::Metric2;
 
 /// The three corner angles of triangle `p` measured in `m`, in radians (they sum to π).
+#[cfg(test)]
 pub(crate) fn corner_angles(p: &[DVec2; 3], m: &Metric2) -> [f64; 3] {
     [
         m.angle(p[1] - p[0], p[2] - p[0]),
@@ -44,12 +45,20 @@ mod tests {
     fn equilateral_in_its_metric() {
         // An equilateral triangle squashed by 10 along y is equilateral in diag(1, 100).
         let h = 3f64.sqrt() / 2.0 / 10.0;
-        let p = [DVec2::new(0.0, 0.0), DVec2::new(1.0, 0.0), DVec2::new(0.5, h)];
+        let p = [
+            DVec2::new(0.0, 0.0),
+            DVec2::new(1.0, 0.0),
+            DVec2::new(0.5, h),
+        ];
         let m = Metric2::new(1.0, 0.0, 100.0);
         for a in corner_angles(&p, &m) {
             assert!((a.to_degrees() - 60.0).abs() < 1e-9);
         }
         assert!(angles_at_least(&p, &m, 59.9f64.to_radians().cos()));
-        assert!(!angles_at_least(&p, &Metric2::IDENTITY, 20f64.to_radians().cos()));
+        assert!(!angles_at_least(
+            &p,
+            &Metric2::IDENTITY,
+            20f64.to_radians().cos()
+        ));
     }
 }

@@ -5,7 +5,7 @@
 //! by its id, a straight edge's nodes by its two vertices (placed from the lower id to the
 //! higher), a curved edge's nodes by its piece, so an edge has the same nodes — bit for bit —
 //! in both elements that use it, including the two regions on either side of a shared curve.
-//! Curved-edge nodes are `c(t)` evaluated on the piece by de Casteljau (spec §5.3 [MEASURED]:
+//! Curved-edge nodes are `c(t)` evaluated on the piece by de Casteljau (spec §5.3 \[MEASURED\]:
 //! Lagrange nodes are interpolation points, not control points). Every node is mapped to
 //! the surface as `P(u, v)`, so elements of order ≥ 2 follow the surface and stay conforming.
 
@@ -16,7 +16,8 @@ use super::bisect::piece_constraints;
 use super::corners::Corners;
 use super::domain::Domain;
 use super::element::{
-    collocation_inverse, control_points, lagrange_layout, optimize_interior, ray_map, BezierTriangle,
+    collocation_inverse, control_points, lagrange_layout, optimize_interior, ray_map,
+    BezierTriangle,
 };
 use super::input::{CurveId, PatchId, RegionId};
 use super::output::{CurvedEdge, ElementInfo, ElementKind, ElementQuality};
@@ -82,7 +83,8 @@ impl Assembly {
             let p = v.map(|i| tr.pos[i as usize]);
             let halves = [3 * t, 3 * t + 1, 3 * t + 2];
             for &[a, b] in &layout {
-                let n = self.lattice_node(d, &mut vnode, &mut edge_start, v, halves, [a, b], &p, patch);
+                let n =
+                    self.lattice_node(d, &mut vnode, &mut edge_start, v, halves, [a, b], &p, patch);
                 self.elements.push(n);
             }
             self.info.push(ElementInfo {
@@ -107,7 +109,8 @@ impl Assembly {
             let regions = d.curve_regions[piece.curve as usize];
             let cons = piece_constraints(d, id);
             let mut curve_start = NONE;
-            for (side, (g, region)) in [(gl, regions[0]), (gr, regions[1])].into_iter().enumerate() {
+            for (side, (g, region)) in [(gl, regions[0]), (gr, regions[1])].into_iter().enumerate()
+            {
                 if region == NONE || g == NONE {
                     continue;
                 }
@@ -133,7 +136,16 @@ impl Assembly {
                         let j = if reversed { q - a } else { a };
                         curve_start + j - 1
                     } else if b == 0 || a + b == q || a == 0 {
-                        self.lattice_node(d, &mut vnode, &mut edge_start, v, halves, [a, b], &p, patch)
+                        self.lattice_node(
+                            d,
+                            &mut vnode,
+                            &mut edge_start,
+                            v,
+                            halves,
+                            [a, b],
+                            &p,
+                            patch,
+                        )
                     } else {
                         self.node(uv[k], patch)
                     };
@@ -153,7 +165,11 @@ impl Assembly {
                     exempt: false,
                     quality: empty_quality(),
                 });
-                pending.push(Pending::Curved(out_tri, p, v.map(|i| tr.metric[i as usize])));
+                pending.push(Pending::Curved(
+                    out_tri,
+                    p,
+                    v.map(|i| tr.metric[i as usize]),
+                ));
             }
         }
         self.layout = layout;
@@ -262,14 +278,24 @@ fn empty_quality() -> ElementQuality {
 /// nodes are computed exactly as the shared nodes are (curve points by de Casteljau on the
 /// piece, straight-edge points from the lower vertex id), so the values agree bit for bit;
 /// interior nodes start on the ray map and are placed by [`optimize_interior`].
-pub(crate) fn curved_nodes(d: &Domain, id: u32, right: bool, q: u32, inv: &[Vec<f64>]) -> (Vec<DVec2>, f64) {
+pub(crate) fn curved_nodes(
+    d: &Domain,
+    id: u32,
+    right: bool,
+    q: u32,
+    inv: &[Vec<f64>],
+) -> (Vec<DVec2>, f64) {
     let piece = d.guarded.piece(id);
     let [p0, pd, gl, gr] = d.piece_verts[id as usize];
     let g = if right { gr } else { gl };
     let v = if right { [pd, p0, g] } else { [p0, pd, g] };
     let pos = |i: u32| d.tr.pos[i as usize];
     let apex = pos(g);
-    let oriented = if right { piece.ctrl.reversed() } else { piece.ctrl.clone() };
+    let oriented = if right {
+        piece.ctrl.reversed()
+    } else {
+        piece.ctrl.clone()
+    };
     let layout = lagrange_layout(q);
     let mut nodes: Vec<DVec2> = layout
         .iter()
@@ -285,7 +311,11 @@ pub(crate) fn curved_nodes(d: &Domain, id: u32, right: bool, q: u32, inv: &[Vec<
                 let j = if right { q - a } else { a };
                 piece.ctrl.eval(j as f64 / q as f64)
             } else if a + b == q || a == 0 {
-                let (x, y, k) = if a == 0 { (v[2], v[0], q - b) } else { (v[1], v[2], b) };
+                let (x, y, k) = if a == 0 {
+                    (v[2], v[0], q - b)
+                } else {
+                    (v[1], v[2], b)
+                };
                 let (lo, hi) = (x.min(y), x.max(y));
                 let j = if x == lo { k } else { q - k };
                 let t = j as f64 / q as f64;

@@ -20,7 +20,7 @@ use crate::error::Error;
 /// What a bisection did.
 pub(crate) enum Bisected {
     /// The piece was split; these triangles are new or changed.
-    Split { touched: Vec<u32>, new_constraints: Vec<u32> },
+    Split { touched: Vec<u32> },
     /// The piece is at the split depth cap.
     AtDepthCap,
 }
@@ -53,7 +53,6 @@ pub(crate) fn bisect(d: &mut Domain, id: u32) -> Result<Bisected, Error> {
     }
     let old_cons = piece_constraints(d, id);
     let old_chains = [d.chain(id, false), d.chain(id, true)];
-    let old_depth = d.guarded.piece(id).depth;
     let curve = d.guarded.piece(id).curve;
     let sides = d.curve_regions[curve as usize];
     // Split until the new pieces' envelopes meet no other envelope and their chain vertices
@@ -71,16 +70,17 @@ pub(crate) fn bisect(d: &mut Domain, id: u32) -> Result<Bisected, Error> {
                     continue;
                 }
                 let [a, g, b] = old_chains[k];
-                let (pa, pg, pb) = (d.tr.pos[a as usize], d.tr.pos[g as usize], d.tr.pos[b as usize]);
+                let (pa, pg, pb) = (
+                    d.tr.pos[a as usize],
+                    d.tr.pos[g as usize],
+                    d.tr.pos[b as usize],
+                );
                 let guard = if side { p.guards.right } else { p.guards.left };
                 for q in [guard, p.ctrl.start(), p.ctrl.end()] {
                     if q == pa || q == pb {
                         continue;
                     }
                     if !(orient(pa, pg, q) < 0.0 && orient(pg, pb, q) < 0.0) {
-                        if std::env::var_os("KATACHI_CURVED_TRACE").is_some() {
-                            eprintln!("bisect {id} (depth {old_depth}): new piece {n} depth {} point {q:?} not inside old chain {pa:?} {pg:?} {pb:?}; ctrl {:?}", p.depth, p.ctrl.points());
-                        }
                         bad = Some(n);
                         break 'pieces;
                     }
@@ -92,9 +92,6 @@ pub(crate) fn bisect(d: &mut Domain, id: u32) -> Result<Bisected, Error> {
                     continue;
                 }
                 if envelopes_meet(&e, &o.envelope()) {
-                    if std::env::var_os("KATACHI_CURVED_TRACE").is_some() {
-                        eprintln!("bisect {id}: new piece {n} (depth {}) meets piece {j} (curve {}, depth {})", p.depth, o.curve, o.depth);
-                    }
                     bad = Some(n);
                     break 'pieces;
                 }
@@ -120,7 +117,6 @@ pub(crate) fn bisect(d: &mut Domain, id: u32) -> Result<Bisected, Error> {
         d.make_piece_vertices(n)?;
     }
     let mut touched = Vec::new();
-    let mut new_constraints = Vec::new();
     for (k, right) in [false, true].into_iter().enumerate() {
         let region = sides[k];
         if region == NONE {
@@ -180,7 +176,12 @@ pub(crate) fn bisect(d: &mut Domain, id: u32) -> Result<Bisected, Error> {
             .rev()
             .map(|&h| {
                 let e = prev(h);
-                (d.tr.vert[e as usize], d.tr.dest(e), d.tr.twin[e as usize], d.tr.cons[e as usize])
+                (
+                    d.tr.vert[e as usize],
+                    d.tr.dest(e),
+                    d.tr.twin[e as usize],
+                    d.tr.cons[e as usize],
+                )
             })
             .collect();
         let mut poly = chain.clone();
@@ -247,13 +248,9 @@ pub(crate) fn bisect(d: &mut Domain, id: u32) -> Result<Bisected, Error> {
                 }
             }
         }
-        new_constraints.extend(new_cons);
         d.kind[g as usize] = VertexKind::Removed;
     }
-    Ok(Bisected::Split {
-        touched,
-        new_constraints,
-    })
+    Ok(Bisected::Split { touched })
 }
 
 /// Splits a straight piece at its midpoint `m`: on each side, `m` is inserted on the guard
@@ -271,7 +268,6 @@ fn bisect_linear(d: &mut Domain, id: u32) -> Result<Bisected, Error> {
     let m = d.piece_verts[first as usize][1];
     let (pm, mm) = (d.tr.pos[m as usize], d.tr.metric[m as usize]);
     let mut touched = Vec::new();
-    let mut new_constraints = Vec::new();
     let mut cav = Cavity::default();
     let mut out = Vec::new();
     for (k, right) in [false, true].into_iter().enumerate() {
@@ -280,14 +276,20 @@ fn bisect_linear(d: &mut Domain, id: u32) -> Result<Bisected, Error> {
         }
         let c = old_cons[2 * k];
         if c == NONE {
-            return Err(Error::Internal(format!("curved meshing: straight piece {id} has no guard edge")));
+            return Err(Error::Internal(format!(
+                "curved meshing: straight piece {id} has no guard edge"
+            )));
         }
         let con = d.tr.constraints[c as usize];
         let h = con.half;
         d.tr.constraints[c as usize].alive = false;
         d.tr.cavity(pm, &mm, &[tri_of(h)], h, &mut cav);
         d.tr.fill(m, &cav, h, &mut out);
-        let (pa, pb) = if right { (second, first) } else { (first, second) };
+        let (pa, pb) = if right {
+            (second, first)
+        } else {
+            (first, second)
+        };
         let c1 = d.new_constraint(con.a, m, pa, right)?;
         let c2 = d.new_constraint(m, con.b, pb, right)?;
         for &t in &out {
@@ -300,16 +302,13 @@ fn bisect_linear(d: &mut Domain, id: u32) -> Result<Bisected, Error> {
                 }
             }
         }
-        if d.tr.constraints[c1 as usize].half == NONE || d.tr.constraints[c2 as usize].half == NONE {
+        if d.tr.constraints[c1 as usize].half == NONE || d.tr.constraints[c2 as usize].half == NONE
+        {
             return Err(Error::Internal(format!(
                 "curved meshing: splitting straight piece {id} lost a guard edge"
             )));
         }
         touched.extend_from_slice(&out);
-        new_constraints.extend([c1, c2]);
     }
-    Ok(Bisected::Split {
-        touched,
-        new_constraints,
-    })
+    Ok(Bisected::Split { touched })
 }

@@ -1,4 +1,4 @@
-//! Small input angles (spec §4.3 "small input angles" [DESIGN], Ruppert's practice): a
+//! Small input angles (spec §4.3 "small input angles" \[DESIGN\], Ruppert's practice): a
 //! corner of a trim loop whose interior angle, measured in the metric at the corner, is
 //! below `small_angle_deg` cannot get well-shaped triangles, so the triangles at it are
 //! exempt from the angle bound and reported apart.
@@ -10,7 +10,11 @@ use super::domain::Domain;
 /// The interior angle at a loop corner, in degrees, in the metric `m` given by its Cholesky
 /// frame: the counter-clockwise angle from the leaving tangent to the reversed arriving one
 /// (the region lies on the left of its loops).
-pub(crate) fn interior_angle_deg(leaving: DVec2, arriving: DVec2, f: &super::tensor::Frame2) -> f64 {
+pub(crate) fn interior_angle_deg(
+    leaving: DVec2,
+    arriving: DVec2,
+    f: &super::tensor::Frame2,
+) -> f64 {
     let a = f.apply(leaving);
     let b = f.apply(-arriving);
     let ang = a.perp_dot(b).atan2(a.dot(b)).to_degrees();
@@ -74,7 +78,7 @@ impl Corners {
     /// Whether triangle `t` is exempt from the angle bound: it has a small corner as a
     /// vertex, or its shortest edge (in the mean metric) spans the two curves of a small
     /// corner — the wedge's own angle, which no refinement removes (Shewchuk's rule for
-    /// Delaunay refinement with small input angles, [DESIGN]).
+    /// Delaunay refinement with small input angles, \[DESIGN\]).
     pub fn exempts(&self, d: &Domain, t: u32) -> bool {
         if self.pairs.is_empty() {
             return false;
@@ -85,7 +89,9 @@ impl Corners {
         }
         let m = v
             .iter()
-            .fold(super::tensor::Metric2::new(0.0, 0.0, 0.0), |acc, &i| acc.add(&d.tr.metric[i as usize]));
+            .fold(super::tensor::Metric2::new(0.0, 0.0, 0.0), |acc, &i| {
+                acc.add(&d.tr.metric[i as usize])
+            });
         let p = v.map(|i| d.tr.pos[i as usize]);
         let k = (0..3)
             .min_by(|&i, &j| {
@@ -125,6 +131,9 @@ mod tests {
         // In a metric 10 × finer across x, a 45° corner between +x and the diagonal shrinks.
         let g = Metric2::new(1.0, 0.0, 100.0).cholesky().unwrap();
         let a = interior_angle_deg(DVec2::new(-1.0, 1.0), DVec2::X, &g);
-        assert!((a - (180.0 - 10f64.atan2(-1.0).to_degrees())).abs() < 1e-9, "{a}");
+        assert!(
+            (a - (180.0 - 10f64.atan2(-1.0).to_degrees())).abs() < 1e-9,
+            "{a}"
+        );
     }
 }

@@ -19,7 +19,7 @@ use super::input::TrimmedPatches;
 use super::predicates::orient;
 use super::separate::GuardedCurves;
 use super::tensor::Metric2;
-use super::triangulation::{next, prev, tri_of, Cavity, Constraint, Located, Triangulation, NONE};
+use super::triangulation::{next, prev, tri_of, Cavity, Constraint, Triangulation, NONE};
 use crate::error::Error;
 
 /// What a vertex of the triangulation is.
@@ -75,14 +75,18 @@ impl<'a> Domain<'a> {
     pub fn curve_of_vertex(&self, v: u32) -> Option<u32> {
         match self.kind.get(v as usize)? {
             VertexKind::Curve { curve, .. } => Some(*curve),
-            VertexKind::Guard { piece, .. } => self.guarded.pieces[*piece as usize].as_ref().map(|p| p.curve),
+            VertexKind::Guard { piece, .. } => self.guarded.pieces[*piece as usize]
+                .as_ref()
+                .map(|p| p.curve),
             _ => None,
         }
     }
 
     /// The curve-point vertex at `p`, if any.
     pub fn vertex_at(&self, p: DVec2) -> Option<u32> {
-        self.point_vertex.get(&[p.x.to_bits(), p.y.to_bits()]).copied()
+        self.point_vertex
+            .get(&[p.x.to_bits(), p.y.to_bits()])
+            .copied()
     }
 
     /// A new vertex of another kind.
@@ -105,12 +109,24 @@ impl<'a> Domain<'a> {
         let sides = self.curve_regions[piece.curve as usize];
         let linear = piece.is_linear();
         let left = if sides[0] != NONE && !linear {
-            self.add_vertex(piece.guards.left, VertexKind::Guard { piece: id, right: false })?
+            self.add_vertex(
+                piece.guards.left,
+                VertexKind::Guard {
+                    piece: id,
+                    right: false,
+                },
+            )?
         } else {
             NONE
         };
         let right = if sides[1] != NONE && !linear {
-            self.add_vertex(piece.guards.right, VertexKind::Guard { piece: id, right: true })?
+            self.add_vertex(
+                piece.guards.right,
+                VertexKind::Guard {
+                    piece: id,
+                    right: true,
+                },
+            )?
         } else {
             NONE
         };
@@ -146,7 +162,13 @@ impl<'a> Domain<'a> {
     }
 
     /// A new constraint on the directed edge `a → b` of piece `piece`'s chain.
-    pub fn new_constraint(&mut self, a: u32, b: u32, piece: u32, right: bool) -> Result<u32, CurvedError> {
+    pub fn new_constraint(
+        &mut self,
+        a: u32,
+        b: u32,
+        piece: u32,
+        right: bool,
+    ) -> Result<u32, CurvedError> {
         let mid = 0.5 * (self.tr.pos[a as usize] + self.tr.pos[b as usize]);
         let metric = self.metric.at(mid)?;
         self.tr.constraints.push(Constraint {
@@ -234,10 +256,14 @@ fn triangulate(d: &mut Domain, chains: &[(u32, Vec<u32>)]) -> Result<(), Error> 
     let c = 0.5 * (lo + hi);
     let r = (hi - lo).length().max(1e-300) * 8.0;
     let m = Metric2::isotropic(r);
-    let s: Vec<u32> = [DVec2::new(-1.0, -1.0), DVec2::new(3.0, -1.0), DVec2::new(-1.0, 3.0)]
-        .iter()
-        .map(|&dir| d.add_vertex_with(c + r * dir, m, VertexKind::Outer))
-        .collect();
+    let s: Vec<u32> = [
+        DVec2::new(-1.0, -1.0),
+        DVec2::new(3.0, -1.0),
+        DVec2::new(-1.0, 3.0),
+    ]
+    .iter()
+    .map(|&dir| d.add_vertex_with(c + r * dir, m, VertexKind::Outer))
+    .collect();
     let mut last = d.tr.new_triangle(s[0], s[1], s[2], NONE);
     let mut cav = Cavity::default();
     let mut out = Vec::new();
@@ -334,7 +360,13 @@ fn find_half(tr: &Triangulation, cache: &mut OutgoingCache, x: u32, y: u32) -> O
 /// Makes `a → b` an edge carrying constraint `c`: Sloan's algorithm (1993) — list the edges
 /// the segment crosses, flip each whose quadrilateral is convex, put back the others and the
 /// new diagonals that still cross. Every decision is exact.
-fn recover(tr: &mut Triangulation, cache: &mut OutgoingCache, a: u32, b: u32, c: u32) -> Result<(), Error> {
+fn recover(
+    tr: &mut Triangulation,
+    cache: &mut OutgoingCache,
+    a: u32,
+    b: u32,
+    c: u32,
+) -> Result<(), Error> {
     let pa = tr.pos[a as usize];
     let pb = tr.pos[b as usize];
     let internal = |what: &str| {
@@ -356,7 +388,9 @@ fn recover(tr: &mut Triangulation, cache: &mut OutgoingCache, a: u32, b: u32, c:
         return Ok(());
     }
     // The wedge at a the segment enters.
-    let start = cache.get(tr, a).ok_or_else(|| internal("its first vertex is in no triangle"))?;
+    let start = cache
+        .get(tr, a)
+        .ok_or_else(|| internal("its first vertex is in no triangle"))?;
     let mut h = start;
     let mut e = NONE;
     loop {
@@ -379,7 +413,9 @@ fn recover(tr: &mut Triangulation, cache: &mut OutgoingCache, a: u32, b: u32, c:
         h = g;
     }
     if e == NONE {
-        return Err(internal("no triangle around its first vertex points at its second"));
+        return Err(internal(
+            "no triangle around its first vertex points at its second",
+        ));
     }
     // The crossed edges, from a to b, as vertex pairs (half-edges move when flipped).
     let mut crossed: std::collections::VecDeque<(u32, u32)> = std::collections::VecDeque::new();
@@ -454,16 +490,29 @@ fn label_regions(d: &mut Domain, chains: &[(u32, Vec<u32>)]) -> Result<(), Error
     let mut stack: Vec<u32> = Vec::new();
     for (r, edges) in chains {
         let r = *r;
-        stack.extend(edges.iter().map(|&c| tri_of(tr.constraints[c as usize].half)));
+        stack.extend(
+            edges
+                .iter()
+                .map(|&c| tri_of(tr.constraints[c as usize].half)),
+        );
         while let Some(t) = stack.pop() {
             let o = owner[t as usize];
             if o == r {
                 continue;
             }
             if o != NONE {
-                return Err(CurvedError::RegionsOverlap { a: o.min(r), b: o.max(r), patch }.into());
+                return Err(CurvedError::RegionsOverlap {
+                    a: o.min(r),
+                    b: o.max(r),
+                    patch,
+                }
+                .into());
             }
-            if tr.tri(t).iter().any(|&v| d.kind[v as usize] == VertexKind::Outer) {
+            if tr
+                .tri(t)
+                .iter()
+                .any(|&v| d.kind[v as usize] == VertexKind::Outer)
+            {
                 return Err(CurvedError::LoopsDoNotBound { region: r }.into());
             }
             owner[t as usize] = r;
@@ -472,9 +521,15 @@ fn label_regions(d: &mut Domain, chains: &[(u32, Vec<u32>)]) -> Result<(), Error
                 let c = tr.cons[h as usize];
                 if c != NONE {
                     let con = tr.constraints[c as usize];
-                    let side = d.curve_regions[d.guarded.piece(con.piece).curve as usize][con.right_side as usize];
+                    let side = d.curve_regions[d.guarded.piece(con.piece).curve as usize]
+                        [con.right_side as usize];
                     if side != r {
-                        return Err(CurvedError::RegionsOverlap { a: side.min(r), b: side.max(r), patch }.into());
+                        return Err(CurvedError::RegionsOverlap {
+                            a: side.min(r),
+                            b: side.max(r),
+                            patch,
+                        }
+                        .into());
                     }
                     if con.half != h {
                         // This region's own chain, reached from outside.

@@ -46,6 +46,7 @@ pub(crate) struct BezierTriangle {
 impl BezierTriangle {
     /// The guarding triangle of a curve piece (spec §5.1): curve control points `ctrl` from
     /// `v₀` to `v₁`, apex `v₂`.
+    #[cfg(test)]
     pub fn guarding(ctrl: &[DVec2], apex: DVec2) -> BezierTriangle {
         let d = (ctrl.len() - 1) as u32;
         let (v0, v1) = (ctrl[0], ctrl[d as usize]);
@@ -70,7 +71,11 @@ impl BezierTriangle {
             .iter()
             .zip(&self.points)
             .map(|(a, p)| {
-                trinomial(n, *a) * l[0].powi(a[0] as i32) * l[1].powi(a[1] as i32) * l[2].powi(a[2] as i32) * *p
+                trinomial(n, *a)
+                    * l[0].powi(a[0] as i32)
+                    * l[1].powi(a[1] as i32)
+                    * l[2].powi(a[2] as i32)
+                    * *p
             })
             .fold(DVec2::ZERO, |s, x| s + x)
     }
@@ -114,7 +119,13 @@ pub(crate) fn eval_scalar(n: u32, coef: &[f64], xi: f64, eta: f64) -> f64 {
     multi_indices(n)
         .iter()
         .zip(coef)
-        .map(|(a, c)| trinomial(n, *a) * l[0].powi(a[0] as i32) * l[1].powi(a[1] as i32) * l[2].powi(a[2] as i32) * c)
+        .map(|(a, c)| {
+            trinomial(n, *a)
+                * l[0].powi(a[0] as i32)
+                * l[1].powi(a[1] as i32)
+                * l[2].powi(a[2] as i32)
+                * c
+        })
         .sum()
 }
 
@@ -150,6 +161,7 @@ fn layout_into(q: u32, off: u32, out: &mut Vec<[u32; 2]>) {
 
 /// Converts Lagrange nodes of order `q` (in [`lagrange_layout`] order) to the control
 /// points of the same polynomial triangle, by solving the Bernstein collocation system.
+#[allow(clippy::needless_range_loop)]
 pub(crate) fn lagrange_to_bezier(q: u32, nodes: &[DVec2]) -> BezierTriangle {
     let layout = lagrange_layout(q);
     let idx = multi_indices(q);
@@ -160,7 +172,10 @@ pub(crate) fn lagrange_to_bezier(q: u32, nodes: &[DVec2]) -> BezierTriangle {
         let (xi, eta) = (x as f64 / q.max(1) as f64, y as f64 / q.max(1) as f64);
         let l = [1.0 - xi - eta, xi, eta];
         for (c, m) in idx.iter().enumerate() {
-            a[r][c] = trinomial(q, *m) * l[0].powi(m[0] as i32) * l[1].powi(m[1] as i32) * l[2].powi(m[2] as i32);
+            a[r][c] = trinomial(q, *m)
+                * l[0].powi(m[0] as i32)
+                * l[1].powi(m[1] as i32)
+                * l[2].powi(m[2] as i32);
         }
     }
     let mut rhs: Vec<DVec2> = nodes.to_vec();
@@ -189,10 +204,13 @@ pub(crate) fn lagrange_to_bezier(q: u32, nodes: &[DVec2]) -> BezierTriangle {
             }
         }
     }
-    BezierTriangle { degree: q, points: rhs }
+    BezierTriangle {
+        degree: q,
+        points: rhs,
+    }
 }
 
-/// The guarding triangle as a ray map from the apex (Coons-like, [DESIGN]):
+/// The guarding triangle as a ray map from the apex (Coons-like, \[DESIGN\]):
 /// `F(ξ, η) = η o + (1 − η) c(ξ / (1 − η))`, the segment from each curve point to the apex.
 /// It is a valid parametrization whenever the apex sees the whole curve (a guard does), and
 /// on the straight edges it is linear, so its values make good starting interior nodes.
@@ -315,7 +333,11 @@ pub(crate) fn optimize_interior(q: u32, nodes: &mut [DVec2], inv: &[Vec<f64>]) -
 pub(crate) fn control_points(q: u32, nodes: &[DVec2], inv: &[Vec<f64>]) -> BezierTriangle {
     let points = inv
         .iter()
-        .map(|row| row.iter().zip(nodes).fold(DVec2::ZERO, |s, (w, p)| s + *w * *p))
+        .map(|row| {
+            row.iter()
+                .zip(nodes)
+                .fold(DVec2::ZERO, |s, (w, p)| s + *w * *p)
+        })
         .collect();
     BezierTriangle { degree: q, points }
 }
@@ -333,7 +355,18 @@ mod tests {
         );
         assert_eq!(
             lagrange_layout(3),
-            vec![[0, 0], [3, 0], [0, 3], [1, 0], [2, 0], [2, 1], [1, 2], [0, 2], [0, 1], [1, 1]]
+            vec![
+                [0, 0],
+                [3, 0],
+                [0, 3],
+                [1, 0],
+                [2, 0],
+                [2, 1],
+                [1, 2],
+                [0, 2],
+                [0, 1],
+                [1, 1]
+            ]
         );
         for q in 1..=10 {
             assert_eq!(lagrange_layout(q).len() as u32, (q + 1) * (q + 2) / 2);
@@ -377,7 +410,11 @@ mod tests {
     #[test]
     fn inverted_element_has_a_negative_coefficient() {
         // The guard on the wrong side of the curve.
-        let ctrl = [DVec2::new(0.0, 0.0), DVec2::new(0.5, 0.5), DVec2::new(1.0, 0.0)];
+        let ctrl = [
+            DVec2::new(0.0, 0.0),
+            DVec2::new(0.5, 0.5),
+            DVec2::new(1.0, 0.0),
+        ];
         let bad = BezierTriangle::guarding(&ctrl, DVec2::new(0.5, 0.1));
         assert!(bad.jacobian_coefficients().iter().any(|&x| x <= 0.0));
         let good = BezierTriangle::guarding(&ctrl, DVec2::new(0.5, 0.6));
@@ -419,7 +456,11 @@ mod lens {
                     .collect();
                 let _ = &exact;
                 let m = optimize_interior(q, &mut nodes, &inv);
-                assert!(m > 0.0, "order {q}, piece of width {}: {m}", (piece.end() - piece.start()).length());
+                assert!(
+                    m > 0.0,
+                    "order {q}, piece of width {}: {m}",
+                    (piece.end() - piece.start()).length()
+                );
             }
         }
     }

@@ -121,7 +121,12 @@ pub enum CurvedError {
     /// A curved element stays folded however its curve piece is split (an order below the
     /// curve's degree that cannot follow it).
     #[error("the curved element on curve {curve}, t in [{t0}, {t1}], folds at order {order}; try a higher order")]
-    InvalidElement { curve: u32, t0: f64, t1: f64, order: u32 },
+    InvalidElement {
+        curve: u32,
+        t0: f64,
+        t1: f64,
+        order: u32,
+    },
     /// A budget ran out: the mesh would need more than a limit allows.
     #[error("{what}: the limit of {limit} was reached ({detail}); raise options.{option} or coarsen the metric")]
     Budget {

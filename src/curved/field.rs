@@ -191,7 +191,10 @@ impl<T: Blend> Grid2<T> {
         let (j, fv) = axis(p.y, self.min.y, self.max.y, nv);
         let nu = nu as usize;
         let at = |a: usize, b: usize| self.values[a + nu * b];
-        let (i1, j1) = ((i + 1).min(nu - 1), (j + 1).min(self.counts[1] as usize - 1));
+        let (i1, j1) = (
+            (i + 1).min(nu - 1),
+            (j + 1).min(self.counts[1] as usize - 1),
+        );
         T::blend(&[
             ((1.0 - fu) * (1.0 - fv), at(i, j)),
             (fu * (1.0 - fv), at(i1, j)),
@@ -201,7 +204,7 @@ impl<T: Blend> Grid2<T> {
     }
 }
 
-/// The clamp applied to every pulled-back metric (spec §2, [DESIGN]): eigenvalues within
+/// The clamp applied to every pulled-back metric (spec §2, \[DESIGN\]): eigenvalues within
 /// `[1/max_size², 1/min_size²]` (sizes in parameter units) and anisotropy at most
 /// `max_anisotropy`.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -244,7 +247,7 @@ impl<'a> PatchMetric<'a> {
     pub fn at(&self, uv: DVec2) -> Result<Metric2, CurvedError> {
         let s = self.patch.eval_with_derivatives(uv.x, uv.y);
         let n = s.du.cross(s.dv).length();
-        if !(n > self.regular_eps) {
+        if n.is_nan() || n <= self.regular_eps {
             return Err(CurvedError::DegenerateSurface {
                 patch: self.patch_id,
                 u: uv.x,

@@ -25,7 +25,7 @@ pub(crate) struct Guards {
 
 impl Guards {
     /// Guard points of `c`, or `None` when the piece must be split first: not guardable
-    /// (seed 000 Def. 2.1) or its cone wider than `max_cone_deg` ([BG] `isWellGuardable`).
+    /// (seed 000 Def. 2.1) or its cone wider than `max_cone_deg` (\[BG\] `isWellGuardable`).
     /// `root_width` is ŵ, the width of the unsplit input curve (seed 000 §2.2: "constant
     /// under splitting").
     pub fn of(c: &BezierCurve, root_width: f64, mu: f64, max_cone_deg: f64) -> Option<Guards> {
@@ -34,7 +34,10 @@ impl Guards {
             // A straight piece is its own guard edge [DESIGN]: no curved triangle, and its
             // "envelope" is the segment (both guards at the midpoint, no μ shift).
             let mid = 0.5 * (p[0] + p[1]);
-            return (p[0] != p[1]).then_some(Guards { left: mid, right: mid });
+            return (p[0] != p[1]).then_some(Guards {
+                left: mid,
+                right: mid,
+            });
         }
         let s: Vec<DVec2> = p.windows(2).map(|w| w[1] - w[0]).collect();
         let cone = Cone::of(&s)?;
@@ -70,13 +73,21 @@ fn apexes(p0: DVec2, pd: DVec2, cone: Cone) -> (DVec2, DVec2) {
     let alpha_r = chord.perp_dot(sp) / -den;
     // The chord is a positive combination of the control vectors, so both α are ≥ 0; a
     // negative one is rounding on a nearly straight piece.
-    let xl = if alpha_l >= 0.0 { p0 + alpha_l * sp } else { mid };
-    let xr = if alpha_r >= 0.0 { p0 + alpha_r * sm } else { mid };
+    let xl = if alpha_l >= 0.0 {
+        p0 + alpha_l * sp
+    } else {
+        mid
+    };
+    let xr = if alpha_r >= 0.0 {
+        p0 + alpha_r * sm
+    } else {
+        mid
+    };
     (xl, xr)
 }
 
 /// The width ŵ of an input curve: its chord, or the control box's diagonal when the curve
-/// nearly closes on itself (the chord then says nothing about its size) [DESIGN].
+/// nearly closes on itself (the chord then says nothing about its size) \[DESIGN\].
 pub(crate) fn root_width(c: &BezierCurve) -> f64 {
     let chord = (c.end() - c.start()).length();
     let (lo, hi) = c.control_box();

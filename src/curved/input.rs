@@ -135,7 +135,9 @@ impl TrimmedPatches {
             self.curves
                 .push(BezierCurve::line(points[i], points[(i + 1) % n]));
         }
-        let uses = (0..n as u32).map(|i| CurveUse::forward(first + i)).collect();
+        let uses = (0..n as u32)
+            .map(|i| CurveUse::forward(first + i))
+            .collect();
         self.regions.push(Region {
             patch: PatchId(patch),
             loops: vec![TrimLoop::new(uses)],

@@ -84,7 +84,10 @@ fn get<'a>(obj: &'a Value, field: &str, key: &str) -> R<&'a Value> {
 fn number(v: &Value, field: &str) -> R<f64> {
     match v.as_f64() {
         Some(x) if x.is_finite() => Ok(x),
-        _ => field_err(field, format!("expected a finite number, found {}", describe(v))),
+        _ => field_err(
+            field,
+            format!("expected a finite number, found {}", describe(v)),
+        ),
     }
 }
 
@@ -105,11 +108,10 @@ fn index(v: &Value, field: &str, what: &str) -> R<u32> {
 }
 
 fn array<'a>(v: &'a Value, field: &str) -> R<&'a Vec<Value>> {
-    v.as_array()
-        .ok_or_else(|| ReadError::Field {
-            field: field.to_string(),
-            message: format!("expected an array, found {}", describe(v)),
-        })
+    v.as_array().ok_or_else(|| ReadError::Field {
+        field: field.to_string(),
+        message: format!("expected an array, found {}", describe(v)),
+    })
 }
 
 fn numbers<const N: usize>(v: &Value, field: &str) -> R<[f64; N]> {
@@ -151,19 +153,36 @@ pub fn parse_input(text: &str) -> R<(TrimmedPatches, CurvedOptions)> {
         message: e.to_string(),
     })?;
     if !root.is_object() {
-        return field_err("(top level)", format!("expected an object, found {}", describe(&root)));
+        return field_err(
+            "(top level)",
+            format!("expected an object, found {}", describe(&root)),
+        );
     }
     let mut patches = Vec::new();
-    for (i, p) in array(get(&root, "(top level)", "patches")?, "patches")?.iter().enumerate() {
+    for (i, p) in array(get(&root, "(top level)", "patches")?, "patches")?
+        .iter()
+        .enumerate()
+    {
         patches.push(patch(p, &format!("patches[{i}]"))?);
     }
     let mut curves = Vec::new();
-    for (i, c) in array(get(&root, "(top level)", "curves")?, "curves")?.iter().enumerate() {
+    for (i, c) in array(get(&root, "(top level)", "curves")?, "curves")?
+        .iter()
+        .enumerate()
+    {
         curves.push(curve(c, &format!("curves[{i}]"))?);
     }
     let mut regions = Vec::new();
-    for (i, r) in array(get(&root, "(top level)", "regions")?, "regions")?.iter().enumerate() {
-        regions.push(region(r, &format!("regions[{i}]"), patches.len(), curves.len())?);
+    for (i, r) in array(get(&root, "(top level)", "regions")?, "regions")?
+        .iter()
+        .enumerate()
+    {
+        regions.push(region(
+            r,
+            &format!("regions[{i}]"),
+            patches.len(),
+            curves.len(),
+        )?);
     }
     let metric = metric(get(&root, "(top level)", "metric")?, "metric")?;
     let options = match root.get("options") {
@@ -184,24 +203,36 @@ pub fn parse_input(text: &str) -> R<(TrimmedPatches, CurvedOptions)> {
 fn patch(v: &Value, field: &str) -> R<BezierPatch> {
     let d = array(get(v, field, "degree")?, &format!("{field}.degree"))?;
     if d.len() != 2 {
-        return field_err(&format!("{field}.degree"), format!("expected [m, n], found {} numbers", d.len()));
+        return field_err(
+            &format!("{field}.degree"),
+            format!("expected [m, n], found {} numbers", d.len()),
+        );
     }
     let m = index(&d[0], &format!("{field}.degree[0]"), "a degree")? as usize;
     let n = index(&d[1], &format!("{field}.degree[1]"), "a degree")? as usize;
     if m == 0 || n == 0 || m > 30 || n > 30 {
-        return field_err(&format!("{field}.degree"), format!("degrees must be in 1..=30, found [{m}, {n}]"));
+        return field_err(
+            &format!("{field}.degree"),
+            format!("degrees must be in 1..=30, found [{m}, {n}]"),
+        );
     }
     let pts = array(get(v, field, "points")?, &format!("{field}.points"))?;
     let expected = (m + 1) * (n + 1);
     if pts.len() != expected {
         return field_err(
             &format!("{field}.points"),
-            format!("bidegree [{m}, {n}] needs (m+1)(n+1) = {expected} points, found {}", pts.len()),
+            format!(
+                "bidegree [{m}, {n}] needs (m+1)(n+1) = {expected} points, found {}",
+                pts.len()
+            ),
         );
     }
     let mut points = Vec::with_capacity(expected);
     for (k, p) in pts.iter().enumerate() {
-        points.push(DVec3::from_array(numbers::<3>(p, &format!("{field}.points[{k}]"))?));
+        points.push(DVec3::from_array(numbers::<3>(
+            p,
+            &format!("{field}.points[{k}]"),
+        )?));
     }
     Ok(BezierPatch::new(m, n, points))
 }
@@ -213,7 +244,10 @@ fn curve(v: &Value, field: &str) -> R<BezierCurve> {
     };
     let pts = array(pts, &pf)?;
     if pts.len() < 2 || pts.len() > 64 {
-        return field_err(&pf, format!("a curve needs 2 to 64 control points, found {}", pts.len()));
+        return field_err(
+            &pf,
+            format!("a curve needs 2 to 64 control points, found {}", pts.len()),
+        );
     }
     let mut points = Vec::with_capacity(pts.len());
     for (k, p) in pts.iter().enumerate() {
@@ -223,7 +257,11 @@ fn curve(v: &Value, field: &str) -> R<BezierCurve> {
 }
 
 fn region(v: &Value, field: &str, patch_count: usize, curve_count: usize) -> R<Region> {
-    let p = index(get(v, field, "patch")?, &format!("{field}.patch"), "a patch index")?;
+    let p = index(
+        get(v, field, "patch")?,
+        &format!("{field}.patch"),
+        "a patch index",
+    )?;
     if p as usize >= patch_count {
         return field_err(
             &format!("{field}.patch"),
@@ -232,7 +270,10 @@ fn region(v: &Value, field: &str, patch_count: usize, curve_count: usize) -> R<R
     }
     let loops_v = array(get(v, field, "loops")?, &format!("{field}.loops"))?;
     if loops_v.is_empty() {
-        return field_err(&format!("{field}.loops"), "a region needs at least its outer loop");
+        return field_err(
+            &format!("{field}.loops"),
+            "a region needs at least its outer loop",
+        );
     }
     let mut loops = Vec::with_capacity(loops_v.len());
     for (l, lp) in loops_v.iter().enumerate() {
@@ -246,22 +287,43 @@ fn region(v: &Value, field: &str, patch_count: usize, curve_count: usize) -> R<R
             let f = format!("{lf}[{k}]");
             let (c, reversed) = match it {
                 Value::Object(_) => {
-                    let c = index(get(it, &f, "curve")?, &format!("{f}.curve"), "a curve index")?;
+                    let c = index(
+                        get(it, &f, "curve")?,
+                        &format!("{f}.curve"),
+                        "a curve index",
+                    )?;
                     let r = match it.get("reversed") {
                         None => false,
                         Some(Value::Bool(b)) => *b,
                         Some(x) => {
-                            return field_err(&format!("{f}.reversed"), format!("expected true or false, found {}", describe(x)))
+                            return field_err(
+                                &format!("{f}.reversed"),
+                                format!("expected true or false, found {}", describe(x)),
+                            )
                         }
                     };
                     (c, r)
                 }
-                _ => (index(it, &f, "a curve index or {\"curve\": i, \"reversed\": true}")?, false),
+                _ => (
+                    index(
+                        it,
+                        &f,
+                        "a curve index or {\"curve\": i, \"reversed\": true}",
+                    )?,
+                    false,
+                ),
             };
             if c as usize >= curve_count {
-                return field_err(&f, format!("curve {c} does not exist (the file has {curve_count})"));
+                return field_err(
+                    &f,
+                    format!("curve {c} does not exist (the file has {curve_count})"),
+                );
             }
-            uses.push(if reversed { CurveUse::backward(c) } else { CurveUse::forward(c) });
+            uses.push(if reversed {
+                CurveUse::backward(c)
+            } else {
+                CurveUse::forward(c)
+            });
         }
         loops.push(TrimLoop::new(uses));
     }
@@ -286,12 +348,24 @@ fn tensor3(v: &Value, field: &str) -> R<Metric3> {
             for (r, c) in [(0, 1), (0, 2), (1, 2)] {
                 let (x, y) = (m[r][c], m[c][r]);
                 if (x - y).abs() > 1e-12 * (x.abs() + y.abs()).max(1e-300) {
-                    return field_err(field, format!("the tensor is not symmetric: [{r}][{c}] = {x} but [{c}][{r}] = {y}"));
+                    return field_err(
+                        field,
+                        format!(
+                            "the tensor is not symmetric: [{r}][{c}] = {x} but [{c}][{r}] = {y}"
+                        ),
+                    );
                 }
             }
             Metric3::new(m[0][0], m[0][1], m[0][2], m[1][1], m[1][2], m[2][2])
         }
-        n => return field_err(field, format!("expected 6 numbers (xx, xy, xz, yy, yz, zz) or a 3×3 array, found {n} items")),
+        n => {
+            return field_err(
+                field,
+                format!(
+                    "expected 6 numbers (xx, xy, xz, yy, yz, zz) or a 3×3 array, found {n} items"
+                ),
+            )
+        }
     };
     if !t.is_positive_definite() {
         return field_err(field, "the tensor is not positive definite");
@@ -321,7 +395,7 @@ fn metric(v: &Value, field: &str) -> R<MetricField> {
             let h = positive(get(v, field, "size")?, &f("size"))?;
             let a = positive(get(v, field, "anisotropy")?, &f("anisotropy"))?;
             let d = DVec3::from_array(numbers::<3>(get(v, field, "direction")?, &f("direction"))?);
-            if !(d.length() > 0.0) {
+            if d.length() <= 0.0 {
                 return field_err(&f("direction"), "the direction is the zero vector");
             }
             Ok(MetricField::Constant(Metric3::from_direction(d, h * a, h)))
@@ -401,11 +475,10 @@ fn options(v: &Value, field: &str) -> R<CurvedOptions> {
         let f = format!("{field}.{k}");
         let int = |x: &Value| index(x, &f, "a non-negative integer");
         let big = |x: &Value| {
-            x.as_u64()
-                .ok_or_else(|| ReadError::Field {
-                    field: f.clone(),
-                    message: format!("expected a non-negative integer, found {}", describe(x)),
-                })
+            x.as_u64().ok_or_else(|| ReadError::Field {
+                field: f.clone(),
+                message: format!("expected a non-negative integer, found {}", describe(x)),
+            })
         };
         match k.as_str() {
             "order" => o.order = int(x)?,

@@ -2,21 +2,46 @@
 //! "Curved mesh generation on parametric surfaces"; spec `spec/curved_mesh.md`).
 //!
 //! A tensor-product Bézier patch, trimmed by loops of planar Bézier curves in its parameter
-//! square, is meshed for a metric given in real space. The curves are *guarded* (Bézier
-//! Guarding, Mandad & Campen 2020) so the boundary triangles follow them exactly, and the rest
-//! is refined by anisotropic Voronoi refinement (Labelle & Shewchuk 2003) until every triangle
-//! has a guaranteed smallest angle measured in the metric.
+//! square, is meshed for a metric given in real space (seed 000 §4):
+//!
+//! 1. **Step 1** — the metric is pulled back to the parameter square, `M_uv = Jᵀ M₃ J`.
+//! 2. **Step 2** — the trim curves are *guarded* (Bézier Guarding, Mandad & Campen 2020):
+//!    split until guardable, a guard point on each side, envelopes split until disjoint.
+//! 3. **Step 3** — the linear domain Ω_lin bounded by the guard edges is refined by
+//!    anisotropic Voronoi refinement (Labelle & Shewchuk 2003, with Imai & Yokosuka's bound
+//!    for curved domains): every straight triangle ends with all its angles at least
+//!    `arcsin(1/(2B))` (14.48° for the default B = 2) in the metric of each of its vertices,
+//!    except at small input angles, which are reported apart.
+//! 4. **Step 4** — the guarding triangles become curved elements whose edge is the input
+//!    curve, and every node is mapped to the surface.
 //!
 //! | paper section / step | file |
 //! | --- | --- |
-//! | §2.1 input conditions (a)–(c); spec §1 | [`validate`](self) (`validate.rs`), `separate.rs` for (c) |
-//! | §2.2 Def. 2.1 guardable, Prop. 2.2 splitting | `cone.rs` |
-//! | §3.1 tensor field, metric angles | `tensor.rs`, `field.rs` |
-//! | §3.2 parametric (Bézier) surface | `patch.rs` |
-//! | trim curves | `bezier.rs` |
-//! | input (Step 1) | `input.rs`, `json.rs` |
+//! | §2.1 input and conditions (a)–(b); spec §1 | `input.rs`, `validate.rs`, `json.rs` |
+//! | §2.1 condition (c): curves meet only at end points | `separate.rs` (envelopes that cannot be separated) |
+//! | §2.2 Def. 2.1 guardable, Prop. 2.2 splitting | `cone.rs`, `separate.rs` |
+//! | §2.2 Defs. 2.3–2.5 guard points, guarding triangles, envelopes | `guard.rs` |
+//! | §3.1 tensor field, metric lengths and angles | `tensor.rs`, `field.rs`, `angles.rs` |
+//! | §3.2 parametric (Bézier) surface | `patch.rs`; trim curves `bezier.rs` |
+//! | §4 Step 1: pull the metric back | `field.rs` (`PatchMetric::at`) |
+//! | §4 Step 2: guard, separate envelopes | `separate.rs` |
+//! | §4 Step 3: the polygon of inner guarding triangles | `domain.rs` |
+//! | §4 Step 3 (LS): anisotropic Voronoi vertices, insertion kernel | `voronoi.rs`, `triangulation.rs` |
+//! | §4 Step 3 (LS, IY): refinement rules, angle bound | `refine.rs`; small input angles `corners.rs` |
+//! | §6 future work: split curves where the straight triangles are small | `bisect.rs` |
+//! | §4 Step 4: curved elements, mapping to the surface | `element.rs`, `assemble.rs` |
+//! | §5.1 angles measured in the metric, Tables 1–2 | `quality.rs` |
 //!
-//! Written by hand: no crate does Bézier guarding or anisotropic Voronoi refinement.
+//! Gap-fills (spec tags in the docs of each file): straight trim pieces are their own guard
+//! edges; a bisected piece's old guard point leaves the triangulation; bad triangles get
+//! off-centres, and a local Lawson pass in the metric follows each insertion; curved elements
+//! get interior nodes placed to make them valid.
+//!
+//! Written by hand: no crate does Bézier guarding or anisotropic Voronoi refinement. The
+//! triangulation is ours too: `spade` keeps a *Euclidean* constrained Delaunay triangulation
+//! after every insertion, which would undo the anisotropic connectivity the refinement
+//! builds (per-site metrics decide which triangles a new site takes over), and its
+//! refinement is isotropic; the predicates are `robust`'s exact `orient2d` and `incircle`.
 
 mod angles;
 mod assemble;
@@ -46,15 +71,15 @@ mod voronoi;
 pub use bezier::BezierCurve;
 pub use error::CurvedError;
 
+pub use element::lagrange_layout;
 pub use field::{Grid2, Grid3, MetricField, SizeField};
 pub use input::{CurveId, CurveUse, PatchId, Region, RegionId, TrimLoop, TrimmedPatches};
 pub use json::{parse_input, read_input, ReadError};
-pub use element::lagrange_layout;
 pub use options::CurvedOptions;
 pub use output::{CurvedEdge, CurvedMesh, ElementInfo, ElementKind, ElementQuality, MeshStats};
+pub use patch::{BezierPatch, SurfacePoint};
 pub use quality::{AngleStats, QualityReport};
 pub use refine::RefineStats;
-pub use patch::{BezierPatch, SurfacePoint};
 pub use tensor::{Frame2, Metric2, Metric3};
 
 /// Checks `input` as [`mesh`] would before meshing (spec §1): curves, loops, regions,
@@ -190,7 +215,11 @@ pub fn mesh(input: &TrimmedPatches, options: &CurvedOptions) -> crate::Result<Cu
 
 /// Bisects the pieces whose curved elements fold at the output order (spec §5.1: "or
 /// bisect the curve further"), refining again after each round.
-fn unfold_curved_elements(d: &mut domain::Domain, refiner: &mut refine::Refiner, q: u32) -> crate::Result<()> {
+fn unfold_curved_elements(
+    d: &mut domain::Domain,
+    refiner: &mut refine::Refiner,
+    q: u32,
+) -> crate::Result<()> {
     if q == 1 {
         return Ok(());
     }
@@ -204,7 +233,9 @@ fn unfold_curved_elements(d: &mut domain::Domain, refiner: &mut refine::Refiner,
             }
             let sides = d.curve_regions[piece.curve as usize];
             for (k, right) in [false, true].into_iter().enumerate() {
-                if sides[k] != triangulation::NONE && assemble::curved_nodes(d, id as u32, right, q, &inv).1 <= 0.0 {
+                if sides[k] != triangulation::NONE
+                    && assemble::curved_nodes(d, id as u32, right, q, &inv).1 <= 0.0
+                {
                     folded.push(id as u32);
                     break;
                 }
@@ -215,12 +246,24 @@ fn unfold_curved_elements(d: &mut domain::Domain, refiner: &mut refine::Refiner,
         }
         if round == 8 {
             let p = d.guarded.piece(folded[0]);
-            return Err(CurvedError::InvalidElement { curve: p.curve, t0: p.t0(), t1: p.t1(), order: q }.into());
+            return Err(CurvedError::InvalidElement {
+                curve: p.curve,
+                t0: p.t0(),
+                t1: p.t1(),
+                order: q,
+            }
+            .into());
         }
         for id in folded {
             if d.guarded.pieces[id as usize].is_some() && !refiner.split_piece(d, id, None)? {
                 let p = d.guarded.piece(id);
-                return Err(CurvedError::InvalidElement { curve: p.curve, t0: p.t0(), t1: p.t1(), order: q }.into());
+                return Err(CurvedError::InvalidElement {
+                    curve: p.curve,
+                    t0: p.t0(),
+                    t1: p.t1(),
+                    order: q,
+                }
+                .into());
             }
         }
         refiner.drain(d)?;

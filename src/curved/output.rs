@@ -123,7 +123,11 @@ impl CurvedMesh {
     /// The area of element `e` in parameter space: `∫ det DF`, exact for the element's
     /// polynomial map (half the mean of `det DF`'s Bézier coefficients).
     pub fn element_area_uv(&self, e: usize) -> f64 {
-        let uv: Vec<DVec2> = self.element(e).iter().map(|&n| self.nodes_uv[n as usize]).collect();
+        let uv: Vec<DVec2> = self
+            .element(e)
+            .iter()
+            .map(|&n| self.nodes_uv[n as usize])
+            .collect();
         let tri = super::element::lagrange_to_bezier(self.order, &uv);
         let c = tri.jacobian_coefficients();
         0.5 * c.iter().sum::<f64>() / c.len() as f64

@@ -43,8 +43,16 @@ pub(crate) fn segments_meet_away_from_shared_end(a: DVec2, b: DVec2, c: DVec2, d
         let hi_ab = if (a.x, a.y) <= (b.x, b.y) { b } else { a };
         let lo_cd = if (c.x, c.y) <= (d.x, d.y) { c } else { d };
         let hi_cd = if (c.x, c.y) <= (d.x, d.y) { d } else { c };
-        let lo = if (lo_ab.x, lo_ab.y) >= (lo_cd.x, lo_cd.y) { lo_ab } else { lo_cd };
-        let hi = if (hi_ab.x, hi_ab.y) <= (hi_cd.x, hi_cd.y) { hi_ab } else { hi_cd };
+        let lo = if (lo_ab.x, lo_ab.y) >= (lo_cd.x, lo_cd.y) {
+            lo_ab
+        } else {
+            lo_cd
+        };
+        let hi = if (hi_ab.x, hi_ab.y) <= (hi_cd.x, hi_cd.y) {
+            hi_ab
+        } else {
+            hi_cd
+        };
         let cmp = (lo.x, lo.y).partial_cmp(&(hi.x, hi.y));
         return match cmp {
             Some(std::cmp::Ordering::Less) => true,
@@ -106,17 +114,47 @@ mod tests {
     #[test]
     fn shared_end_is_not_a_meeting() {
         let o = v(0.0, 0.0);
-        assert!(!segments_meet_away_from_shared_end(o, v(1.0, 0.0), o, v(0.0, 1.0)));
+        assert!(!segments_meet_away_from_shared_end(
+            o,
+            v(1.0, 0.0),
+            o,
+            v(0.0, 1.0)
+        ));
         // Collinear overlap from a shared end is a meeting.
-        assert!(segments_meet_away_from_shared_end(o, v(1.0, 0.0), o, v(2.0, 0.0)));
+        assert!(segments_meet_away_from_shared_end(
+            o,
+            v(1.0, 0.0),
+            o,
+            v(2.0, 0.0)
+        ));
         // Collinear, opposite directions from the shared end: only the end.
-        assert!(!segments_meet_away_from_shared_end(o, v(1.0, 0.0), o, v(-2.0, 0.0)));
+        assert!(!segments_meet_away_from_shared_end(
+            o,
+            v(1.0, 0.0),
+            o,
+            v(-2.0, 0.0)
+        ));
         // Crossing.
-        assert!(segments_meet_away_from_shared_end(v(0.0, 0.0), v(1.0, 1.0), v(0.0, 1.0), v(1.0, 0.0)));
+        assert!(segments_meet_away_from_shared_end(
+            v(0.0, 0.0),
+            v(1.0, 1.0),
+            v(0.0, 1.0),
+            v(1.0, 0.0)
+        ));
         // T-junction on the interior.
-        assert!(segments_meet_away_from_shared_end(v(0.0, 0.0), v(2.0, 0.0), v(1.0, 0.0), v(1.0, 1.0)));
+        assert!(segments_meet_away_from_shared_end(
+            v(0.0, 0.0),
+            v(2.0, 0.0),
+            v(1.0, 0.0),
+            v(1.0, 1.0)
+        ));
         // An end of one on the other's end, but not shared by both as an end: a is c.
-        assert!(!segments_meet_away_from_shared_end(v(1.0, 0.0), v(2.0, 0.0), v(1.0, 0.0), v(1.0, 1.0)));
+        assert!(!segments_meet_away_from_shared_end(
+            v(1.0, 0.0),
+            v(2.0, 0.0),
+            v(1.0, 0.0),
+            v(1.0, 1.0)
+        ));
     }
 
     #[test]

@@ -145,7 +145,13 @@ impl Measure<'_> {
     /// Quality of a straight element with corners `p` and vertex metrics `m`.
     pub fn straight(&self, p: &[DVec2; 3], m: &[Metric2; 3]) -> ElementQuality {
         let corners = straight_corners(p);
-        self.measure(&corners, p, m, |l| l[0] * p[0] + l[1] * p[1] + l[2] * p[2], None)
+        self.measure(
+            &corners,
+            p,
+            m,
+            |l| l[0] * p[0] + l[1] * p[1] + l[2] * p[2],
+            None,
+        )
     }
 
     /// Quality of a curved element: Bézier triangle `tri` with corners `p` (edge 0→1 curved).
@@ -160,15 +166,13 @@ impl Measure<'_> {
         // Edge row in multi_indices order runs from v₀ (i = d) to v₁ (j = d).
         let t0 = d as f64 * (edge[1] - edge[0]);
         let t1 = d as f64 * (edge[d] - edge[d - 1]);
-        let corners: Corners = [(t0, p[2] - p[0]), (p[2] - p[1], -t1), (p[0] - p[2], p[1] - p[2])];
+        let corners: Corners = [
+            (t0, p[2] - p[0]),
+            (p[2] - p[1], -t1),
+            (p[0] - p[2], p[1] - p[2]),
+        ];
         let jac = scaled_jacobian(tri);
-        self.measure(
-            &corners,
-            p,
-            m,
-            |l| tri.eval(l[1], l[2]),
-            Some(jac),
-        )
+        self.measure(&corners, p, m, |l| tri.eval(l[1], l[2]), Some(jac))
     }
 
     fn measure(
@@ -182,7 +186,9 @@ impl Measure<'_> {
         // The smallest angle has the largest cosine: one arccos for the nine corner angles.
         let max_cos = m
             .iter()
-            .flat_map(|mk| corners.map(|(a, b)| mk.dot(a, b) / (mk.norm_sq(a) * mk.norm_sq(b)).sqrt()))
+            .flat_map(|mk| {
+                corners.map(|(a, b)| mk.dot(a, b) / (mk.norm_sq(a) * mk.norm_sq(b)).sqrt())
+            })
             .fold(f64::NEG_INFINITY, f64::max);
         let min_vertex = max_cos.clamp(-1.0, 1.0).acos().to_degrees();
         // Pooled angles: in the mean of the vertex metrics (no field evaluation).

@@ -299,21 +299,13 @@ impl<'o> Refiner<'o> {
                     }
                     let w = d.tr.apex(con.half);
                     let apex = d.tr.pos[w as usize];
-                    if self.corners.protects(d, d.guarded.piece(con.piece).curve, w) {
+                    if self
+                        .corners
+                        .protects(d, d.guarded.piece(con.piece).curve, w)
+                    {
                         continue;
                     }
                     if self.encroached(d, c, apex) {
-                        if std::env::var_os("KATACHI_CURVED_TRACE").is_some() && trace_on(self.stats.bisections) {
-                            eprintln!(
-                                "encroached {c}: {:?} -> {:?} by apex {:?} (kind {:?}), piece {} depth {}",
-                                d.tr.pos[con.a as usize],
-                                d.tr.pos[con.b as usize],
-                                apex,
-                                d.kind[d.tr.apex(con.half) as usize],
-                                con.piece,
-                                d.guarded.piece(con.piece).depth
-                            );
-                        }
                         self.split_piece(d, con.piece, None)?;
                     }
                 }
@@ -343,7 +335,12 @@ impl<'o> Refiner<'o> {
     }
 
     /// Bisects `piece` and queues what changed; `then` is re-queued if it survives.
-    pub fn split_piece(&mut self, d: &mut Domain, piece: u32, then: Option<u32>) -> Result<bool, Error> {
+    pub fn split_piece(
+        &mut self,
+        d: &mut Domain,
+        piece: u32,
+        then: Option<u32>,
+    ) -> Result<bool, Error> {
         self.budget_check(d)?;
         match bisect(d, piece)? {
             Bisected::AtDepthCap => Ok(false),
@@ -377,7 +374,7 @@ impl<'o> Refiner<'o> {
         self.stats.unresolved += 1;
     }
 
-    /// The off-centre of triangle `t` (Üngör 2004; [DESIGN]): on the bisector of its
+    /// The off-centre of triangle `t` (Üngör 2004; \[DESIGN\]): on the bisector of its
     /// shortest edge, at the point where a triangle on that edge would just meet the bound
     /// (with a 5% margin), or the circumcentre if nearer; all in the mean of the vertex
     /// metrics. For a skinny triangle it lies near the short edge, where the Voronoi vertex
@@ -416,9 +413,6 @@ impl<'o> Refiner<'o> {
             mid + to_center * (h / dist)
         };
         let x = p[0] + f.solve(off);
-        if std::env::var_os("KATACHI_CURVED_TRACE3").is_some() {
-            eprintln!("offc p {p:?} m {m:?} q {q:?} k {k} center {center:?} h {h} dist {dist} off {off:?} x {x:?}");
-        }
         x.is_finite().then_some(x)
     }
 
@@ -438,10 +432,12 @@ impl<'o> Refiner<'o> {
         };
         let [a, b, c] = d.tr.tri(t).map(|i| d.tr.pos[i as usize]);
         let centroid = (a + b + c) / 3.0;
-        for (ci, cand) in [first, Some(centroid)].into_iter().flatten().enumerate() {
+        for cand in [first, Some(centroid)].into_iter().flatten() {
             let seeds = match d.tr.locate(cand, t) {
                 Located::Inside(u) => vec![u],
-                Located::OnEdge(h) if d.tr.cons[h as usize] == NONE && d.tr.twin[h as usize] != NONE => {
+                Located::OnEdge(h)
+                    if d.tr.cons[h as usize] == NONE && d.tr.twin[h as usize] != NONE =>
+                {
                     vec![tri_of(h), tri_of(d.tr.twin[h as usize])]
                 }
                 Located::OnEdge(h) | Located::Blocked(h) => {
@@ -476,9 +472,6 @@ impl<'o> Refiner<'o> {
                 return Ok(());
             }
             self.budget_check(d)?;
-            if std::env::var_os("KATACHI_CURVED_TRACE2").is_some() {
-                eprintln!("insert {} class {class} at {cand:?} for {:?} r2 {}", if ci == 0 { "first" } else { "centroid" }, d.tr.tri(t).map(|i| d.tr.pos[i as usize]), d.tr.radius2[t as usize]);
-            }
             let v = d.add_vertex_with(cand, m, VertexKind::Steiner);
             let mut out = std::mem::take(&mut self.out);
             d.tr.fill(v, &cav, NONE, &mut out);
@@ -516,8 +509,4 @@ impl<'o> Refiner<'o> {
 
 fn cav_contains(c: &Cavity, t: u32) -> bool {
     c.tris.contains(&t)
-}
-
-fn trace_on(bisections: u64) -> bool {
-    std::env::var_os("KATACHI_CURVED_TRACE").is_some() && (bisections < 30 || bisections % 50 == 0)
 }

@@ -1,6 +1,6 @@
 //! Bézier guarding of all input curves at once: split every curve until its pieces are
 //! well guardable, then split until no two envelopes meet (seed 000 §4 Step 2; spec §3.3,
-//! [BG] `splitIntersecting`).
+//! \[BG\] `splitIntersecting`).
 //!
 //! The loop runs on the pieces of every curve of every region of a patch together, so both
 //! sides of a shared curve see the same pieces. Pieces are bisected at t = 1/2 only, so each
@@ -88,7 +88,9 @@ impl GuardedCurves {
         out: &mut Vec<u32>,
     ) -> Result<(), CurvedError> {
         let p = self.params;
-        if let Some(guards) = Guards::of(&ctrl, self.root_width[curve as usize], p.mu, p.max_cone_deg) {
+        if let Some(guards) =
+            Guards::of(&ctrl, self.root_width[curve as usize], p.mu, p.max_cone_deg)
+        {
             if self.pieces.len() as u64 >= p.max_pieces {
                 return Err(CurvedError::Budget {
                     what: "curve pieces",
@@ -118,11 +120,19 @@ impl GuardedCurves {
 
     /// Replaces piece `id` by its halves (each made well guardable), returning the new ids.
     pub fn split(&mut self, id: u32) -> Result<Vec<u32>, CurvedError> {
-        let piece = self.pieces[id as usize].take().expect("splitting a dead piece");
+        let piece = self.pieces[id as usize]
+            .take()
+            .expect("splitting a dead piece");
         let (a, b) = piece.ctrl.split_half();
         let mut out = Vec::with_capacity(2);
         self.guard_recursive(piece.curve, piece.depth + 1, 2 * piece.index, a, &mut out)?;
-        self.guard_recursive(piece.curve, piece.depth + 1, 2 * piece.index + 1, b, &mut out)?;
+        self.guard_recursive(
+            piece.curve,
+            piece.depth + 1,
+            2 * piece.index + 1,
+            b,
+            &mut out,
+        )?;
         Ok(out)
     }
 
@@ -135,7 +145,9 @@ impl GuardedCurves {
         let before = self.pieces.len();
         match self.split(id) {
             Ok(v) => Ok(v),
-            Err(CurvedError::SingularCurve { .. }) if depth + 1 >= self.params.max_depth.saturating_sub(8) => {
+            Err(CurvedError::SingularCurve { .. })
+                if depth + 1 >= self.params.max_depth.saturating_sub(8) =>
+            {
                 self.pieces.truncate(before);
                 self.pieces[id as usize] = saved;
                 Err(None)
@@ -210,12 +222,12 @@ pub(crate) fn guard_and_separate(
         let mut to_split: Vec<u32> = Vec::new();
         for &(a, b) in &pairs {
             let (pa, pb) = (g.piece(a), g.piece(b));
-            let pick = if (pa.size(), a) >= (pb.size(), b) { a } else { b };
+            let pick = if (pa.size(), a) >= (pb.size(), b) {
+                a
+            } else {
+                b
+            };
             let other = if pick == a { b } else { a };
-            if std::env::var_os("KATACHI_CURVED_TRACE").is_some() && g.piece(pick).depth >= params.max_depth - 2 {
-                let (pa, pb) = (g.piece(a), g.piece(b));
-                eprintln!("meet: {a} (curve {} [{}, {}] env {:?}) and {b} (curve {} [{}, {}] env {:?})", pa.curve, pa.t0(), pa.t1(), pa.envelope(), pb.curve, pb.t0(), pb.t1(), pb.envelope());
-            }
             if g.piece(pick).depth >= params.max_depth {
                 return Err(unresolvable(&g, pick, other));
             }
@@ -229,7 +241,15 @@ pub(crate) fn guard_and_separate(
             }
             let partner = pairs
                 .iter()
-                .find_map(|&(a, b)| if a == id { Some(b) } else if b == id { Some(a) } else { None })
+                .find_map(|&(a, b)| {
+                    if a == id {
+                        Some(b)
+                    } else if b == id {
+                        Some(a)
+                    } else {
+                        None
+                    }
+                })
                 .unwrap_or(id);
             let halves = match g.split_checked(id) {
                 Ok(h) => h,

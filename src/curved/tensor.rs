@@ -63,11 +63,7 @@ impl Metric2 {
     /// Size `h_along` along the unit direction `dir` and `h_across` across it.
     pub fn from_axes(dir: DVec2, h_along: f64, h_across: f64) -> Metric2 {
         let d = dir.normalize();
-        Metric2::from_eigen(
-            1.0 / (h_along * h_along),
-            1.0 / (h_across * h_across),
-            d,
-        )
+        Metric2::from_eigen(1.0 / (h_along * h_along), 1.0 / (h_across * h_across), d)
     }
 
     /// The matrix with eigenvalue `l1` along the unit vector `e1` and `l2` across it.
@@ -160,7 +156,7 @@ impl Metric2 {
 
     /// The metric with its eigenvalues clamped to `[min_eig, max_eig]` and its anisotropy
     /// (ratio of the largest to the smallest edge length it asks for, `sqrt(l2 / l1)`) to at
-    /// most `max_ratio`, by raising the smaller eigenvalue (spec §2, [DESIGN]).
+    /// most `max_ratio`, by raising the smaller eigenvalue (spec §2, \[DESIGN\]).
     pub fn clamped(&self, min_eig: f64, max_eig: f64, max_ratio: f64) -> Metric2 {
         let (l1, l2, e1) = self.eigen();
         let l2c = l2.clamp(min_eig, max_eig);

@@ -37,7 +37,7 @@ pub(crate) fn next(h: u32) -> u32 {
 
 #[inline]
 pub(crate) fn prev(h: u32) -> u32 {
-    if h % 3 == 0 {
+    if h.is_multiple_of(3) {
         h + 2
     } else {
         h - 1
@@ -137,7 +137,7 @@ impl Triangulation {
     }
 
     /// The three corner positions of triangle `t`.
-    #[inline]
+    #[cfg(test)]
     pub fn tri_pos(&self, t: u32) -> [DVec2; 3] {
         self.tri(t).map(|v| self.pos[v as usize])
     }
@@ -479,7 +479,13 @@ impl Triangulation {
 
     /// Inserts vertex `v` (already added) at its located position: the common path of
     /// refinement and of the initial build.
-    pub fn insert_located(&mut self, v: u32, loc: Located, cav: &mut Cavity, out: &mut Vec<u32>) -> bool {
+    pub fn insert_located(
+        &mut self,
+        v: u32,
+        loc: Located,
+        cav: &mut Cavity,
+        out: &mut Vec<u32>,
+    ) -> bool {
         let seeds: Vec<u32> = match loc {
             Located::Inside(t) => vec![t],
             Located::OnEdge(h) => {
@@ -515,7 +521,12 @@ impl Triangulation {
         let d = self.vert[g2 as usize];
         // Outer half-edges: (b→c), (c→a), (a→d), (d→b).
         let outer = |s: &Self, x: u32| (s.twin[x as usize], s.cons[x as usize]);
-        let (bc, ca, ad, db) = (outer(self, h1), outer(self, h2), outer(self, g1), outer(self, g2));
+        let (bc, ca, ad, db) = (
+            outer(self, h1),
+            outer(self, h2),
+            outer(self, g1),
+            outer(self, g2),
+        );
         let (r1, r2) = (self.region[t1 as usize], self.region[t2 as usize]);
         // t1 becomes (a, d, c), t2 becomes (d, b, c).
         for (t, vs, reg) in [(t1, [a, d, c], r1), (t2, [d, b, c], r2)] {
@@ -550,10 +561,15 @@ impl Triangulation {
         if g == NONE || self.cons[h as usize] != NONE {
             return false;
         }
-        let v = [self.vert[h as usize], self.dest(h), self.apex(h), self.apex(g)];
-        let m = v
-            .iter()
-            .fold(Metric2::new(0.0, 0.0, 0.0), |acc, &i| acc.add(&self.metric[i as usize]));
+        let v = [
+            self.vert[h as usize],
+            self.dest(h),
+            self.apex(h),
+            self.apex(g),
+        ];
+        let m = v.iter().fold(Metric2::new(0.0, 0.0, 0.0), |acc, &i| {
+            acc.add(&self.metric[i as usize])
+        });
         let Some(f) = m.cholesky() else { return false };
         let o = self.pos[v[0] as usize];
         let q = v.map(|i| f.apply(self.pos[i as usize] - o));
@@ -611,7 +627,11 @@ impl Triangulation {
 /// `None` if the polygon is not simple. With `metric`, each step clips the ear whose
 /// anisotropic Voronoi vertex no other polygon vertex is nearer to (the ear a Voronoi
 /// refinement would keep), or failing that the ear of smallest radius.
-pub(crate) fn ear_clip(poly: &[u32], pos: &[DVec2], metric: Option<&[Metric2]>) -> Option<Vec<[u32; 3]>> {
+pub(crate) fn ear_clip(
+    poly: &[u32],
+    pos: &[DVec2],
+    metric: Option<&[Metric2]>,
+) -> Option<Vec<[u32; 3]>> {
     let mut ring: Vec<u32> = poly.to_vec();
     let mut out = Vec::with_capacity(ring.len().saturating_sub(2));
     let p = |v: u32| pos[v as usize];
@@ -639,11 +659,17 @@ pub(crate) fn ear_clip(poly: &[u32], pos: &[DVec2], metric: Option<&[Metric2]>) 
                 best = Some((true, 0.0, i));
                 break;
             };
-            let vv = voronoi_vertex(&[p(a), p(b), p(c)], &[m[a as usize], m[b as usize], m[c as usize]]);
+            let vv = voronoi_vertex(
+                &[p(a), p(b), p(c)],
+                &[m[a as usize], m[b as usize], m[c as usize]],
+            );
             let (empty, r2) = match vv {
                 Some(x) => (
                     ring.iter().all(|&w| {
-                        w == a || w == b || w == c || m[w as usize].norm_sq(x.center - p(w)) >= x.radius2
+                        w == a
+                            || w == b
+                            || w == c
+                            || m[w as usize].norm_sq(x.center - p(w)) >= x.radius2
                     }),
                     x.radius2,
                 ),
@@ -680,7 +706,10 @@ mod tests {
                 continue;
             }
             let [a, b, c] = tr.tri_pos(t);
-            assert!(orient(a, b, c) > 0.0, "triangle {t} is not counter-clockwise");
+            assert!(
+                orient(a, b, c) > 0.0,
+                "triangle {t} is not counter-clockwise"
+            );
             for k in 0..3 {
                 let h = 3 * t + k;
                 let g = tr.twin[h as usize];
@@ -713,12 +742,18 @@ mod tests {
         let mut out = Vec::new();
         let mut state = 12345u64;
         for _ in 0..200 {
-            state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
             let x = ((state >> 11) as f64) / (1u64 << 53) as f64;
-            state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
             let y = ((state >> 11) as f64) / (1u64 << 53) as f64;
             let p = DVec2::new(0.01 + 0.98 * x, 0.01 + 0.98 * y);
-            let start = (0..tr.triangle_slots() as u32).find(|&t| tr.alive[t as usize]).unwrap();
+            let start = (0..tr.triangle_slots() as u32)
+                .find(|&t| tr.alive[t as usize])
+                .unwrap();
             let loc = tr.locate(p, start);
             let nv = tr.add_vertex(p, m);
             assert!(tr.insert_located(nv, loc, &mut cav, &mut out));
@@ -734,7 +769,10 @@ mod tests {
                 if tr.tri(t).contains(&(i as u32)) {
                     continue;
                 }
-                assert!((*q - tr.center[t as usize]).length_squared() >= tr.radius2[t as usize] * (1.0 - 1e-9));
+                assert!(
+                    (*q - tr.center[t as usize]).length_squared()
+                        >= tr.radius2[t as usize] * (1.0 - 1e-9)
+                );
             }
         }
     }
@@ -742,7 +780,13 @@ mod tests {
     #[test]
     fn ear_clipping_a_comb() {
         let pts: Vec<DVec2> = [
-            (0.0, 0.0), (4.0, 0.0), (4.0, 2.0), (3.0, 1.0), (2.0, 2.0), (1.0, 1.0), (0.0, 2.0),
+            (0.0, 0.0),
+            (4.0, 0.0),
+            (4.0, 2.0),
+            (3.0, 1.0),
+            (2.0, 2.0),
+            (1.0, 1.0),
+            (0.0, 2.0),
         ]
         .iter()
         .map(|&(x, y)| DVec2::new(x, y))
@@ -750,7 +794,10 @@ mod tests {
         let poly: Vec<u32> = (0..pts.len() as u32).collect();
         let tris = ear_clip(&poly, &pts, None).unwrap();
         assert_eq!(tris.len(), 5);
-        let area: f64 = tris.iter().map(|t| orient(pts[t[0] as usize], pts[t[1] as usize], pts[t[2] as usize]) / 2.0).sum();
+        let area: f64 = tris
+            .iter()
+            .map(|t| orient(pts[t[0] as usize], pts[t[1] as usize], pts[t[2] as usize]) / 2.0)
+            .sum();
         assert!((area - 6.0).abs() < 1e-12);
     }
 }

@@ -89,7 +89,9 @@ pub(crate) fn validate(input: &TrimmedPatches) -> Result<Vec<u32>, CurvedError> 
                         curve_count: input.curves.len(),
                     });
                 }
-                uses.entry(u.curve.0).or_default().push((r, l as u32, u.reversed));
+                uses.entry(u.curve.0)
+                    .or_default()
+                    .push((r, l as u32, u.reversed));
             }
         }
     }
@@ -125,7 +127,10 @@ pub(crate) fn validate(input: &TrimmedPatches) -> Result<Vec<u32>, CurvedError> 
                     reason: format!("region {r0} uses it on both sides (a slit is not supported)"),
                 });
             }
-            let (p0, p1) = (input.regions[r0 as usize].patch, input.regions[r1 as usize].patch);
+            let (p0, p1) = (
+                input.regions[r0 as usize].patch,
+                input.regions[r1 as usize].patch,
+            );
             if p0 != p1 {
                 return Err(CurvedError::CurveUse {
                     curve: c,
@@ -168,12 +173,20 @@ pub(crate) fn validate(input: &TrimmedPatches) -> Result<Vec<u32>, CurvedError> 
                 })
                 .sum();
             let outer = l == 0;
-            if (outer && !(area > 0.0)) || (!outer && !(area < 0.0)) {
+            if (outer && area <= 0.0) || (!outer && area >= 0.0) {
                 return Err(CurvedError::LoopOrientation {
                     region: r as u32,
                     loop_index: l as u32,
-                    role: if outer { "an outer loop (loop 0)" } else { "a hole" },
-                    expected: if outer { "counter-clockwise" } else { "clockwise" },
+                    role: if outer {
+                        "an outer loop (loop 0)"
+                    } else {
+                        "a hole"
+                    },
+                    expected: if outer {
+                        "counter-clockwise"
+                    } else {
+                        "clockwise"
+                    },
                     found: if area > 0.0 {
                         "counter-clockwise"
                     } else if area < 0.0 {
@@ -213,7 +226,13 @@ fn check_curve(id: u32, c: &BezierCurve) -> Result<(), CurvedError> {
 }
 
 /// The curve stays within `[0, 1]²` (up to 1e-12): the control box decides, or the halves do.
-fn check_inside_square(id: u32, c: &BezierCurve, t0: f64, t1: f64, depth: u32) -> Result<(), CurvedError> {
+fn check_inside_square(
+    id: u32,
+    c: &BezierCurve,
+    t0: f64,
+    t1: f64,
+    depth: u32,
+) -> Result<(), CurvedError> {
     const TOL: f64 = 1e-12;
     let (lo, hi) = c.control_box();
     if lo.x >= -TOL && lo.y >= -TOL && hi.x <= 1.0 + TOL && hi.y <= 1.0 + TOL {
@@ -240,7 +259,13 @@ fn check_inside_square(id: u32, c: &BezierCurve, t0: f64, t1: f64, depth: u32) -
 
 /// `c'(t) ≠ 0`: 0 outside the hull of the hodograph's control points, on the whole curve or
 /// on each piece of a bisection (spec §1.4 (a)).
-fn check_regular(id: u32, c: &BezierCurve, t0: f64, t1: f64, depth: u32) -> Result<(), CurvedError> {
+fn check_regular(
+    id: u32,
+    c: &BezierCurve,
+    t0: f64,
+    t1: f64,
+    depth: u32,
+) -> Result<(), CurvedError> {
     let h = c.hodograph();
     if Cone::of(&h).is_some() {
         return Ok(());
@@ -320,9 +345,17 @@ fn bad_metric(at: String, reason: String) -> CurvedError {
     CurvedError::InvalidMetric { at, reason }
 }
 
-fn check_grid_frame(counts: &[u32], min: &[f64], max: &[f64], values: usize) -> Result<(), CurvedError> {
-    if counts.iter().any(|&c| c == 0) {
-        return Err(bad_metric("grid".into(), format!("sample counts {counts:?} must all be at least 1")));
+fn check_grid_frame(
+    counts: &[u32],
+    min: &[f64],
+    max: &[f64],
+    values: usize,
+) -> Result<(), CurvedError> {
+    if counts.contains(&0) {
+        return Err(bad_metric(
+            "grid".into(),
+            format!("sample counts {counts:?} must all be at least 1"),
+        ));
     }
     let n: u64 = counts.iter().map(|&c| c as u64).product();
     if n != values as u64 {
@@ -348,21 +381,36 @@ fn check_metric(m: &MetricField) -> Result<(), CurvedError> {
         if t.is_positive_definite() {
             Ok(())
         } else {
-            Err(bad_metric(at, format!("the tensor {:?} (xx, xy, xz, yy, yz, zz) is not positive definite", t.to_array())))
+            Err(bad_metric(
+                at,
+                format!(
+                    "the tensor {:?} (xx, xy, xz, yy, yz, zz) is not positive definite",
+                    t.to_array()
+                ),
+            ))
         }
     };
     let spd2 = |at: String, t: &Metric2| {
         if t.is_positive_definite() {
             Ok(())
         } else {
-            Err(bad_metric(at, format!("the tensor [{}, {}, {}] (uu, uv, vv) is not positive definite", t.xx, t.xy, t.yy)))
+            Err(bad_metric(
+                at,
+                format!(
+                    "the tensor [{}, {}, {}] (uu, uv, vv) is not positive definite",
+                    t.xx, t.xy, t.yy
+                ),
+            ))
         }
     };
     let size = |at: String, h: f64| {
         if h.is_finite() && h > 0.0 {
             Ok(())
         } else {
-            Err(bad_metric(at, format!("the size {h} is not a positive number")))
+            Err(bad_metric(
+                at,
+                format!("the size {h} is not a positive number"),
+            ))
         }
     };
     match m {
@@ -370,15 +418,24 @@ fn check_metric(m: &MetricField) -> Result<(), CurvedError> {
         MetricField::Isotropic(SizeField::Constant(h)) => size("the constant size".into(), *h),
         MetricField::Isotropic(SizeField::Grid(g)) => {
             check_grid3(g)?;
-            g.values.iter().enumerate().try_for_each(|(k, h)| size(format!("size sample {k}"), *h))
+            g.values
+                .iter()
+                .enumerate()
+                .try_for_each(|(k, h)| size(format!("size sample {k}"), *h))
         }
         MetricField::Grid(g) => {
             check_grid3(g)?;
-            g.values.iter().enumerate().try_for_each(|(k, t)| spd3(format!("tensor sample {k}"), t))
+            g.values
+                .iter()
+                .enumerate()
+                .try_for_each(|(k, t)| spd3(format!("tensor sample {k}"), t))
         }
         MetricField::ParameterGrid(g) => {
             check_grid2(g)?;
-            g.values.iter().enumerate().try_for_each(|(k, t)| spd2(format!("tensor sample {k}"), t))
+            g.values
+                .iter()
+                .enumerate()
+                .try_for_each(|(k, t)| spd2(format!("tensor sample {k}"), t))
         }
         // Functions are checked wherever they are evaluated.
         MetricField::Isotropic(SizeField::Function(_))
@@ -388,9 +445,19 @@ fn check_metric(m: &MetricField) -> Result<(), CurvedError> {
 }
 
 fn check_grid3<T>(g: &Grid3<T>) -> Result<(), CurvedError> {
-    check_grid_frame(&g.counts, &g.min.to_array(), &g.max.to_array(), g.values.len())
+    check_grid_frame(
+        &g.counts,
+        &g.min.to_array(),
+        &g.max.to_array(),
+        g.values.len(),
+    )
 }
 
 fn check_grid2<T>(g: &Grid2<T>) -> Result<(), CurvedError> {
-    check_grid_frame(&g.counts, &g.min.to_array(), &g.max.to_array(), g.values.len())
+    check_grid_frame(
+        &g.counts,
+        &g.min.to_array(),
+        &g.max.to_array(),
+        g.values.len(),
+    )
 }

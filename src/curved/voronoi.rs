@@ -85,11 +85,7 @@ pub(crate) fn voronoi_vertex(p: &[DVec2; 3], m: &[Metric2; 3]) -> Option<Voronoi
             break;
         }
     }
-    let d = [
-        m[0].norm_sq(x),
-        m[1].norm_sq(x - q1),
-        m[2].norm_sq(x - q2),
-    ];
+    let d = [m[0].norm_sq(x), m[1].norm_sq(x - q1), m[2].norm_sq(x - q2)];
     // A root far from the mean-metric start is the wrong branch of the conics.
     let plausible = converged && mean.norm_sq(x - (start - p[0])) <= 4.0 * scale2;
     if plausible {
@@ -117,7 +113,11 @@ mod tests {
 
     #[test]
     fn euclidean_circumcentre() {
-        let p = [DVec2::new(0.0, 0.0), DVec2::new(2.0, 0.0), DVec2::new(0.0, 2.0)];
+        let p = [
+            DVec2::new(0.0, 0.0),
+            DVec2::new(2.0, 0.0),
+            DVec2::new(0.0, 2.0),
+        ];
         let m = [Metric2::IDENTITY; 3];
         let v = voronoi_vertex(&p, &m).unwrap();
         assert!((v.center - DVec2::new(1.0, 1.0)).length() < 1e-15);
@@ -126,7 +126,11 @@ mod tests {
 
     #[test]
     fn equidistant_in_three_metrics() {
-        let p = [DVec2::new(0.0, 0.0), DVec2::new(1.0, 0.1), DVec2::new(0.2, 0.9)];
+        let p = [
+            DVec2::new(0.0, 0.0),
+            DVec2::new(1.0, 0.1),
+            DVec2::new(0.2, 0.9),
+        ];
         let m = [
             Metric2::new(4.0, 0.5, 1.0),
             Metric2::new(4.4, 0.3, 1.1),
@@ -135,6 +139,9 @@ mod tests {
         let v = voronoi_vertex(&p, &m).unwrap();
         assert!(v.exact);
         let d: Vec<f64> = (0..3).map(|i| m[i].norm_sq(v.center - p[i])).collect();
-        assert!((d[0] - d[1]).abs() < 1e-12 && (d[0] - d[2]).abs() < 1e-12, "{d:?}");
+        assert!(
+            (d[0] - d[1]).abs() < 1e-12 && (d[0] - d[2]).abs() < 1e-12,
+            "{d:?}"
+        );
     }
 }

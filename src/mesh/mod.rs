@@ -11,8 +11,8 @@ mod topology;
 pub(crate) mod validate;
 
 pub use attributes::INFINITELY_SHARP;
-pub use ids::{EdgeId, FaceId, HalfedgeId, LoopId, VertexId};
 pub(crate) use ids::id_type;
+pub use ids::{EdgeId, FaceId, HalfedgeId, LoopId, VertexId};
 pub use inspect::{inspect, MeshReport};
 pub use polymesh::PolyMesh;
 pub use topology::{Defects, HalfedgeRef, LoopWalk, Outgoing, Topology, TopologyOptions};

@@ -7,6 +7,9 @@ use glam::{DVec2, DVec3};
 use katachi::curved::*;
 use katachi::Error;
 
+mod support;
+use support::property::counted_proptest;
+
 fn v2(x: f64, y: f64) -> DVec2 {
     DVec2::new(x, y)
 }
@@ -600,7 +603,7 @@ fn site_budget_is_a_typed_error() {
 use proptest::prelude::*;
 
 fn cases() -> u32 {
-    std::env::var("KATACHI_PROPTEST_CASES")
+    std::env::var("KATACHI_CURVED_CASES")
         .ok()
         .and_then(|s| s.parse().ok())
         .unwrap_or(24)
@@ -703,7 +706,7 @@ fn metric_strategy() -> impl Strategy<Value = MetricKind> {
     ]
 }
 
-proptest! {
+counted_proptest! {
     #![proptest_config(ProptestConfig { cases: cases(), ..ProptestConfig::default() })]
 
     /// Every straight, non-exempt triangle has all its angles ≥ arcsin(1/4) in the metric

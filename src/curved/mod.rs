@@ -17,7 +17,7 @@
 //!
 //! | paper section / step | file |
 //! | --- | --- |
-//! | §2.1 input and conditions (a)–(b); spec §1 | `input.rs`, `validate.rs`, `json.rs` |
+//! | §2.1 input and conditions (a)–(b); spec §1 | `input.rs`, `validate.rs` |
 //! | §2.1 condition (c): curves meet only at end points | `separate.rs` (envelopes that cannot be separated) |
 //! | §2.2 Def. 2.1 guardable, Prop. 2.2 splitting | `cone.rs`, `separate.rs` |
 //! | §2.2 Defs. 2.3–2.5 guard points, guarding triangles, envelopes | `guard.rs` |
@@ -55,7 +55,6 @@ mod error;
 mod field;
 mod guard;
 mod input;
-mod json;
 mod options;
 mod output;
 mod patch;
@@ -74,7 +73,6 @@ pub use error::CurvedError;
 pub use element::lagrange_layout;
 pub use field::{Grid2, Grid3, MetricField, SizeField};
 pub use input::{CurveId, CurveUse, PatchId, Region, RegionId, TrimLoop, TrimmedPatches};
-pub use json::{parse_input, read_input, ReadError};
 pub use options::CurvedOptions;
 pub use output::{CurvedEdge, CurvedMesh, ElementInfo, ElementKind, ElementQuality, MeshStats};
 pub use patch::{BezierPatch, SurfacePoint};

@@ -155,7 +155,6 @@ mod tests {
                 DVec2::new(0.7, -0.25),
                 DVec2::new(1.0, 0.0),
             ]),
-            BezierCurve::line(DVec2::new(0.2, 0.1), DVec2::new(0.9, 0.7)),
         ];
         for c in &curves {
             let g = Guards::of(c, 1.0, 1e-2, 179.0).unwrap();
@@ -170,6 +169,14 @@ mod tests {
                 assert!(orient(g.right, c.end(), p) > 0.0);
             }
         }
+    }
+
+    #[test]
+    fn a_straight_piece_is_its_own_guard() {
+        let c = BezierCurve::line(DVec2::new(0.2, 0.1), DVec2::new(0.9, 0.7));
+        let g = Guards::of(&c, 1.0, 1e-2, 179.0).unwrap();
+        assert_eq!(g.left, 0.5 * (c.start() + c.end()));
+        assert_eq!(g.right, g.left);
     }
 
     #[test]

@@ -8,6 +8,10 @@
 //! cargo run --release --example cut_digest -- 30000 > after.txt && diff before.txt after.txt
 //! ```
 //!
+//! `--detail` adds a second hash per case, of the edits with the report's mean edge lengths
+//! left out (a change in how L is rounded then shows apart from a change in the edits), and
+//! `--case K` prints case K's edits whole.
+//!
 //! Cases: triangulated grids (flat and perturbed), icospheres and tori, seen from random
 //! directions in orthographic and perspective views, cut by random strokes (smooth or with
 //! sharp turns, some closed) in both modes, opened or not, with random snap ratios.
@@ -29,10 +33,14 @@ fn tri_torus(n: u32) -> PolyMesh {
 }
 
 fn main() {
-    let n: u64 = std::env::args()
-        .nth(1)
-        .and_then(|s| s.parse().ok())
-        .unwrap_or(3000);
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let n: u64 = args.first().and_then(|s| s.parse().ok()).unwrap_or(3000);
+    let detail = args.iter().any(|a| a == "--detail");
+    let only: Option<u64> = args
+        .iter()
+        .position(|a| a == "--case")
+        .and_then(|i| args.get(i + 1))
+        .and_then(|s| s.parse().ok());
     let mut s = 0x1234_5678_9abc_def0u64;
     let mut rnd = move || {
         s ^= s << 13;
@@ -108,13 +116,23 @@ fn main() {
             o.snap_vertex_ratio = rnd() * 0.5;
             o.snap_segment_ratio = rnd() * 0.5;
         }
+        if only.is_some_and(|k| k != case) {
+            continue;
+        }
         let r = cut_edits(&mesh, &Stroke::new(p), &view, &o);
         let text = match &r {
             Ok(e) => format!("{e:?}"),
             Err(e) => format!("error {e}"),
         };
-        let mut h = std::collections::hash_map::DefaultHasher::new();
-        text.hash(&mut h);
+        if only.is_some() {
+            println!("{case} {key}\n{text}");
+            return;
+        }
+        let hash = |t: &str| {
+            let mut h = std::collections::hash_map::DefaultHasher::new();
+            t.hash(&mut h);
+            h.finish()
+        };
         let summary = match &r {
             Ok(e) => format!(
                 "nv {} rf {} af {}",
@@ -124,7 +142,28 @@ fn main() {
             ),
             Err(_) => "err".into(),
         };
-        lines += &format!("{case} {key} {:016x} {summary}\n", h.finish());
+        if detail {
+            lines += &format!(
+                "{case} {key} {:016x} {:016x} {summary}\n",
+                hash(&text),
+                hash(&without_lengths(&text))
+            );
+        } else {
+            lines += &format!("{case} {key} {:016x} {summary}\n", hash(&text));
+        }
     }
     print!("{lines}");
+}
+
+/// The edits' text without the report's mean edge lengths (their values up to the next
+/// field).
+fn without_lengths(text: &str) -> String {
+    let mut out = text.to_string();
+    for field in ["mean_edge_length_px: ", "mean_edge_length_world: "] {
+        if let Some(at) = out.find(field) {
+            let end = out[at..].find(',').map_or(out.len(), |e| at + e);
+            out.replace_range(at..end, field);
+        }
+    }
+    out
 }

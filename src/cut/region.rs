@@ -312,17 +312,14 @@ pub(crate) struct EdgeLength {
     pub degenerate_met: Vec<u32>,
 }
 
-/// Faces per job of the near test. Fixed, so L's parts (one a job, added in job order) and
-/// hence its bits do not depend on the thread count.
+/// Faces per job of the near test.
 const NEAR_JOB: usize = 1024;
 
-/// One job's part of L ([`mean_edge_length`]).
+/// One job's faces that the stroke meets, in face order, for L ([`mean_edge_length`]).
 #[derive(Default)]
 struct LengthSum {
-    px: f64,
-    world: f64,
-    /// Non-degenerate faces the stroke meets.
-    faces: u64,
+    /// Each non-degenerate face's perimeter on screen and in space.
+    perimeters: Vec<(f64, f64)>,
     /// Degenerate faces the stroke meets (local ids).
     degenerate: Vec<u32>,
 }
@@ -339,24 +336,27 @@ impl LengthSum {
             self.degenerate.push(lf);
             return;
         }
-        self.px += (s[0] - s[1]).length() + (s[1] - s[2]).length() + (s[2] - s[0]).length();
-        self.world += (p[0] - p[1]).length() + (p[1] - p[2]).length() + (p[2] - p[0]).length();
-        self.faces += 1;
+        self.perimeters.push((
+            (s[0] - s[1]).length() + (s[1] - s[2]).length() + (s[2] - s[0]).length(),
+            (p[0] - p[1]).length() + (p[1] - p[2]).length() + (p[2] - p[0]).length(),
+        ));
     }
 }
 
 /// L: the mean screen (and world) length of the edges of the projectable, non-degenerate
 /// faces that the stroke meets, each face's three (gap-fill for seed 002 §3.2's "mean edge
 /// length", spec §4: a third of their mean perimeter; an edge two of them share counts for
-/// both). Per face, so that the near test's jobs sum it as they go: counting each edge once
-/// needed a table of the edges seen, in a serial pass after the test. `parts` in job order.
+/// both). The perimeters are summed one after the other in face order, so L's bits depend on
+/// those faces alone, not on which other faces were looked at. `parts` in job order.
 fn mean_edge_length(parts: Vec<LengthSum>) -> EdgeLength {
     let (mut px, mut world, mut faces) = (0.0, 0.0, 0u64);
     let mut degenerate_met = Vec::new();
     for part in parts {
-        px += part.px;
-        world += part.world;
-        faces += part.faces;
+        for (p, w) in part.perimeters {
+            px += p;
+            world += w;
+            faces += 1;
+        }
         degenerate_met.extend(part.degenerate);
     }
     let n = 3 * faces;

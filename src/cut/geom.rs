@@ -99,7 +99,7 @@ mod tests {
     /// points, huge, tiny, infinite and NaN coordinates.
     #[test]
     fn orient_is_robusts_orient2d() {
-        let mut bits = crate::cut::radix::tests::xorshift(0x2545_f491_4f6c_dd1d);
+        let mut bits = crate::cut::fast::radix::tests::xorshift(0x2545_f491_4f6c_dd1d);
         let mut next = || (bits() >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0;
         let mut cases: Vec<[DVec2; 3]> = Vec::new();
         for _ in 0..20_000 {

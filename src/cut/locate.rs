@@ -104,7 +104,7 @@ impl PointFaces {
             }
         }
         // By point, faces ascending within each (pushed in face order).
-        let (start, list) = super::radix::group_by_key(pts.len(), &pairs);
+        let (start, list) = super::fast::radix::group_by_key(pts.len(), &pairs);
         PointFaces { pts, start, list }
     }
 

@@ -62,27 +62,20 @@
 //! ```
 
 mod assemble;
-mod candidates;
-#[cfg(target_arch = "x86_64")]
-mod codes_simd;
-mod crossings;
 mod edits;
-#[cfg(target_arch = "x86_64")]
-mod faces_simd;
+mod fast;
+mod first_normalization;
 mod geom;
 mod interpolate;
 mod locate;
-mod normalize;
-mod open;
 mod options;
-mod ordered;
-mod radix;
+mod path_and_opening;
 mod region;
 mod report;
+mod second_normalization;
 mod snap;
-mod split;
-mod stroke;
-mod trace;
+mod split_patterns;
+mod stroke_checks;
 mod triangulate;
 mod view;
 mod visibility;
@@ -97,8 +90,8 @@ use rayon::prelude::*;
 
 use crate::error::Result;
 use crate::mesh::{FaceId, PolyMesh, VertexId};
-use candidates::CellGrid;
-use crossings::{Elem, Occ};
+use fast::grid::CellGrid;
+use first_normalization::{Elem, Occ};
 use region::{Region, NONE};
 use visibility::Before;
 
@@ -198,10 +191,10 @@ fn plan<'a>(
     view: &View,
     options: &CutOptions,
 ) -> Result<(CutEdits, triangulate::Triangles<'a>)> {
-    let mut trace = trace::Trace::start();
+    let mut trace = fast::trace::Trace::start();
     options.validate()?;
     let proj = view::Projector::new(view)?;
-    let prep = stroke::prepare(stroke, options)?;
+    let prep = stroke_checks::prepare(stroke, options)?;
     mesh.require_faces("a stroke cut")?;
     let tris = triangulate::triangles(mesh)?;
     let tm: &PolyMesh = &tris.mesh;
@@ -216,14 +209,14 @@ fn plan<'a>(
     // faces L is measured on (those the stroke meets) are in the region whatever the margin,
     // so L does not change and a second round always suffices.
     trace.mark("prepare");
-    let l_guess = candidates::sample_edge_length(tm.positions(), tm.corners(), &proj);
+    let l_guess = fast::grid::sample_edge_length(tm.positions(), tm.corners(), &proj);
     let mut margin = 1.5 * max_ratio * l_guess;
     let (grid, clipped, mut region, vf_corner, buckets, length, reach) = loop {
         let grid = CellGrid::new(&segs, margin, margin.max(l_guess));
         trace.mark("grid");
-        let codes = candidates::vertex_codes(tm.positions(), &proj, &grid);
+        let codes = fast::grid::vertex_codes(tm.positions(), &proj, &grid);
         trace.mark("codes");
-        let (kept, clipped) = candidates::candidate_faces(tm.corners(), &codes, &grid);
+        let (kept, clipped) = fast::grid::candidate_faces(tm.corners(), &codes, &grid);
         trace.count("candidates", kept.faces.len());
         trace.mark("candidates");
         let built = Region::build(tm, kept, &grid, &segs, margin, max_ratio, &proj, options)?;
@@ -248,7 +241,7 @@ fn plan<'a>(
     // before the occurrences reads it): a fifth of the region's build, where the snap's
     // serial loop left the other thread idle.
     let edges_job = region.edges_job(vf_corner);
-    let (edge_table, (before, snapped)) = ordered::join(edges_job, || {
+    let (edge_table, (before, snapped)) = fast::schedule::join(edges_job, || {
         // Which vertices may move: those the region's faces allow, and in visible-only mode
         // only if seen before snapping (tested only for vertices within reach of the stroke).
         let allowed: Vec<bool> = match &buckets {
@@ -320,7 +313,7 @@ fn plan<'a>(
                 .map(|j| line.pts[j]),
         )),
     };
-    let (occ, locate) = crossings::find_occurrences(
+    let (occ, locate) = first_normalization::find_occurrences(
         &region,
         &snapped,
         prep.closed,
@@ -337,7 +330,7 @@ fn plan<'a>(
     trace.count("occ", occ.len());
 
     // Chains, normalization, split vertices.
-    let mut sp = split::Splitter::new(&region, l_px);
+    let mut sp = split_patterns::Splitter::new(&region, l_px);
     let mut in_chain = vec![false; occ.len()];
     let mut in_final = vec![false; occ.len()];
     let mut paths: Vec<LocalPath> = Vec::new();
@@ -347,13 +340,13 @@ fn plan<'a>(
         // and re-enters is then still crossed once, as Fig. 9 intends; chains that overlap in
         // stroke order (other sheets) stay apart.
         let mut runs: Vec<Vec<u32>> = Vec::new();
-        for chain in crossings::chains(&region, line, &occ, j0, j1) {
+        for chain in first_normalization::chains(&region, line, &occ, j0, j1) {
             for &o in &chain.occ {
                 in_chain[o as usize] = true;
             }
             let first = occ[chain.occ[0] as usize].key;
             let after = |r: &Vec<u32>| {
-                crossings::key_cmp(occ[*r.last().unwrap() as usize].key, first).is_lt()
+                first_normalization::key_cmp(occ[*r.last().unwrap() as usize].key, first).is_lt()
             };
             match runs.iter_mut().find(|r| after(r)) {
                 Some(r) => r.extend_from_slice(&chain.occ),
@@ -363,9 +356,9 @@ fn plan<'a>(
         // Runs are normalized apart (read-only) on rayon and placed in order, each as soon
         // as it is ready: this thread places one run while the pool normalizes the next.
         let (region, occ) = (&region, &occ);
-        ordered::in_order(
+        fast::schedule::in_order(
             runs.len(),
-            |r| normalize::normalize(region, occ, &runs[r]),
+            |r| second_normalization::normalize(region, occ, &runs[r]),
             |_, nzs| {
                 for nz in nzs {
                     let mut verts: Vec<u32> = Vec::with_capacity(nz.occ.len());
@@ -527,7 +520,7 @@ fn plan<'a>(
         let mut pv: Vec<u32> = paths.iter().flat_map(|p| p.verts.iter().copied()).collect();
         pv.sort_unstable();
         pv.dedup();
-        open::open(&mut sp, &pv, &is_path_edge)
+        path_and_opening::open(&mut sp, &pv, &is_path_edge)
     } else {
         Vec::new()
     };
@@ -627,7 +620,7 @@ struct LocalPath {
 /// flips); `gid` maps local vertices to output ids.
 #[allow(clippy::too_many_arguments)]
 fn report_parts(
-    prep: &stroke::Prepared,
+    prep: &stroke_checks::Prepared,
     line: &snap::Polyline,
     snapped: &snap::Snapped,
     paths: &[LocalPath],
@@ -754,7 +747,7 @@ fn edge_between(region: &Region, u: u32, w: u32) -> Option<u32> {
 /// Sorts every input stroke point by what became of it.
 #[allow(clippy::too_many_arguments)]
 fn dropped_points(
-    prep: &stroke::Prepared,
+    prep: &stroke_checks::Prepared,
     line: &snap::Polyline,
     occ: &[Occ],
     in_chain: &[bool],
@@ -773,8 +766,8 @@ fn dropped_points(
             continue;
         }
         let input = prep.input_index[k as usize];
-        let lo = occ.partition_point(|o| crossings::key_cmp(o.key, (j as u32, 0.0)).is_lt());
-        let hi = occ.partition_point(|o| crossings::key_cmp(o.key, (j as u32, 0.0)).is_le());
+        let lo = occ.partition_point(|o| first_normalization::key_cmp(o.key, (j as u32, 0.0)).is_lt());
+        let hi = occ.partition_point(|o| first_normalization::key_cmp(o.key, (j as u32, 0.0)).is_le());
         let here = lo..hi;
         if here.clone().any(|i| in_final[i]) {
             continue;

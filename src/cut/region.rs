@@ -2,7 +2,7 @@
 //! vectors, no hashing), the local manifold check, and L.
 //!
 //! Only the faces within the snap distance of the stroke (max_ratio · L) are ever looked at
-//! after the two streaming passes ([`super::candidates`]) and L's measurement on their
+//! after the two streaming passes ([`super::fast::grid`]) and L's measurement on their
 //! candidates. Every vertex within that distance has all its faces
 //! among them ("complete"), and so has every edge the stroke crosses, so the local adjacency
 //! is exact wherever the cut acts; faces straddling the eye plane are kept too, so an edge
@@ -11,7 +11,7 @@
 use glam::{DVec2, DVec3};
 use rayon::prelude::*;
 
-use super::candidates::{segment_triangle_gap2, CellGrid, Kept};
+use super::fast::grid::{segment_triangle_gap2, CellGrid, Kept};
 use super::geom::{map3, orient};
 use super::options::{CutMode, CutOptions};
 use super::view::{split_seen, Projector, SeenList};
@@ -67,7 +67,7 @@ impl Region {
     }
 
     /// `candidates`: triangles, ascending, a superset of those within `margin` of the stroke
-    /// on screen ([`super::candidates::candidate_faces`]). L is measured on the faces the
+    /// on screen ([`super::fast::grid::candidate_faces`]). L is measured on the faces the
     /// stroke meets; when the snap distance `max_ratio` · L exceeds the margin the region is
     /// not built ([`Built::Grow`]). Otherwise the region keeps the faces within the snap
     /// distance (none beyond can be reached by a snap or a crossing) and the faces straddling
@@ -734,7 +734,7 @@ fn edge_rows(
             n += (prev > a) as usize;
         }
         at.truncate(n);
-        super::radix::small_sort(&mut at);
+        super::fast::radix::small_sort(&mut at);
         let mut i = 0;
         while i < at.len() {
             let b = (at[i] >> 32) as u32;

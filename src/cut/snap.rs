@@ -6,11 +6,11 @@
 use glam::{DVec2, DVec3};
 use rayon::prelude::*;
 
-use super::candidates::CellGrid;
+use super::fast::grid::CellGrid;
 use super::geom::orient;
 use super::options::CutOptions;
 use super::region::{Region, NONE};
-use super::stroke::Prepared;
+use super::stroke_checks::Prepared;
 use super::view::Projector;
 
 /// The stroke after snapping, as a polyline of points.
@@ -169,7 +169,7 @@ pub(crate) fn snap(
     let mut keys: Vec<u128> = placed
         .iter()
         .enumerate()
-        .map(|(i, x)| (x.0 as u128) << 96 | (super::radix::f64_key(x.1) as u128) << 32 | i as u128)
+        .map(|(i, x)| (x.0 as u128) << 96 | (super::fast::radix::f64_key(x.1) as u128) << 32 | i as u128)
         .collect();
     keys.sort_unstable();
     let order: Vec<u32> = keys.iter().map(|&k| k as u32).collect();

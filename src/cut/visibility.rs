@@ -2,7 +2,7 @@
 //! gap-fill: decided per crossing by a ray through it.)
 //!
 //! Every face that can hide a point under the stroke projects onto that point, so it is in
-//! the cut region ([`super::candidates`]): the ray is tested against the region's faces only,
+//! the cut region ([`super::fast::grid`]): the ray is tested against the region's faces only,
 //! bucketed by screen box in a uniform grid with cells about two faces wide, each bucket
 //! nearest first so a ray stops at the first face wholly behind its point (for a ray through
 //! a single pixel position, a 2D bucket grid does what a BVH would). Written here because it
@@ -19,9 +19,9 @@
 use glam::{DVec2, DVec3};
 use rayon::prelude::*;
 
-use super::candidates::{cell_of, CellGrid};
+use super::fast::grid::{cell_of, CellGrid};
 use super::geom::{barycentric, in_triangle, map3};
-use super::radix::{f32_key, sort_by_key};
+use super::fast::radix::{f32_key, sort_by_key};
 use super::region::{lift_with, Region};
 use super::view::SeenList;
 

@@ -3,7 +3,7 @@
 
 use glam::DVec2;
 
-use super::candidates::point_segment_distance;
+use super::fast::grid::point_segment_distance;
 use super::geom::{on_segment, orient};
 use super::options::CutOptions;
 use super::view::Stroke;

@@ -1,4 +1,4 @@
-//! Pass 1 of [`super::candidates`] (every vertex's grid code) four vertices at a time with
+//! Pass 1 of [`super::grid`] (every vertex's grid code) four vertices at a time with
 //! AVX2, or eight with AVX-512, on CPUs that have them (detected at run time; the portable
 //! loop otherwise).
 //!
@@ -10,7 +10,7 @@
 //! nor the table lookup: this pass is a quarter of a 1M-triangle cut; AVX2 halves it, and
 //! AVX-512 takes a fifth to a quarter more off (measured side by side on the same cuts).
 //!
-//! [`CellGrid::code`]: super::candidates::CellGrid::code
+//! [`CellGrid::code`]: super::grid::CellGrid::code
 
 use std::arch::x86_64::*;
 use std::mem::MaybeUninit;

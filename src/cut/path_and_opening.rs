@@ -5,7 +5,7 @@
 //! every vertex on it and may separate the mesh. A path vertex whose faces already formed
 //! several fans (a non-manifold vertex) gets a copy per wedge too, which separates the fans.
 
-use super::split::Splitter;
+use super::split_patterns::Splitter;
 
 /// Duplicates the path vertices; `is_cut(a, b)`: whether `a`-`b` is a path edge. Returns, for
 /// each copy made (in creation order), the local vertex it copies.

@@ -17,7 +17,7 @@ use glam::{DVec2, DVec3};
 use rayon::prelude::*;
 use smallvec::SmallVec;
 
-use super::crossings::{elem_depth, Elem, Occ};
+use super::first_normalization::{elem_depth, Elem, Occ};
 use super::geom::{in_triangle, map3, max_cos_sides, orient};
 use super::region::{Region, NONE};
 

@@ -1,4 +1,4 @@
-//! Pass 2 of [`super::candidates`] sixteen faces at a time with AVX-512, on CPUs that have
+//! Pass 2 of [`super::grid`] sixteen faces at a time with AVX-512, on CPUs that have
 //! it (detected at run time; the face-by-face loop otherwise): the block test on every block
 //! ([`block_not_away`]: the scalar fold was bound by its instructions, 48 loads and some 150
 //! more a block; the pass is 15% (spot) to 22% (torus) faster side by side), and the faces of
@@ -14,11 +14,11 @@
 //! side on the same cuts. The kept lanes are appended compressed ([`append`]), and the whole
 //! run of blocks is one function ([`scan_blocks`]) so that all of this is inlined.
 //!
-//! [`far_for_span`]: super::candidates
+//! [`far_for_span`]: super::grid
 
 use std::arch::x86_64::*;
 
-use super::candidates::{
+use super::grid::{
     cell_box, prefetch_blocks_ahead, CellGrid, Kept, BEHIND, BLOCK, CLOSE, CLOSE_RING, MARKED, MID,
     MID_RING, NEAR, NEAR_RING,
 };
@@ -43,7 +43,7 @@ pub(crate) struct Corners {
 }
 
 /// Whether some face of the block is not surely away from the marked cells (the block
-/// test's [`not_away`](super::candidates) on all 16 faces at once): a few lane operations on
+/// test's [`not_away`](super::grid) on all 16 faces at once): a few lane operations on
 /// three gathers where the face-by-face fold took 48 loads and some 150 instructions.
 ///
 /// # Safety
@@ -158,7 +158,7 @@ pub(crate) unsafe fn near_block(c: &Corners) -> Lanes {
 /// classifier are inlined into the loop: called per block, they were calls that passed their
 /// vectors through memory, and the pass took a sixth longer (spot, per-call A/B).
 ///
-/// [`candidate_faces`]: super::candidates::candidate_faces
+/// [`candidate_faces`]: super::grid::candidate_faces
 ///
 /// # Safety
 /// The CPU has AVX-512 F; every id is below `codes.len()`, which is at most `i32::MAX`.

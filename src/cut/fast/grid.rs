@@ -19,7 +19,7 @@ use std::mem::MaybeUninit;
 use glam::{DVec2, DVec3, DVec4};
 use rayon::prelude::*;
 
-use super::view::Projector;
+use crate::cut::view::Projector;
 use crate::mesh::VertexId;
 
 /// Vertex code for "behind the eye".
@@ -185,7 +185,7 @@ impl CellGrid {
             )
         };
         let ((near, lists), wide) =
-            super::ordered::join(|| Self::marks(segments, geometry, margin), wide);
+            super::schedule::join(|| Self::marks(segments, geometry, margin), wide);
         CellGrid {
             origin: lo,
             cell,

@@ -5,7 +5,7 @@
 //! Before it, spec §4 step 5's clean-up: consecutive duplicates (E_i, E_i), (V_j, V_j)
 //! collapse, and a crossing of an edge next to one of that edge's own end vertices is dropped.
 
-use super::crossings::{elem_faces, Elem, Occ};
+use super::first_normalization::{elem_faces, Elem, Occ};
 use super::region::{Region, NONE};
 
 /// A normalized element array: consecutive elements share `faces[k]` (`NONE` when they are
@@ -93,7 +93,7 @@ fn fig9_passes(region: &Region, occ: &[Occ], a: &mut Vec<u32>) -> bool {
         elem_faces(region, occ[o as usize].elem, &mut scratch);
         entries.extend(scratch.iter().map(|&f| (f, k as u32)));
     }
-    let (start, at) = super::radix::group_by_key(nf, &entries);
+    let (start, at) = super::fast::radix::group_by_key(nf, &entries);
     let mut alive = vec![true; n];
     let mut next: Vec<usize> = (1..=n).collect();
     let mut removed_any = false;

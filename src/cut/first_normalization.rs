@@ -16,7 +16,7 @@
 use glam::{DVec2, DVec3};
 use rayon::prelude::*;
 
-use super::candidates::CellGrid;
+use super::fast::grid::CellGrid;
 use super::geom::{in_triangle, on_segment, orient};
 use super::locate::Locator;
 use super::region::{Region, NONE};
@@ -62,7 +62,7 @@ fn sort_occurrences(occ: &mut Vec<Occ>) {
         .enumerate()
         .map(|(i, o)| (o.key.0, i as u32))
         .collect();
-    super::radix::sort_by_key(&mut by_index);
+    super::fast::radix::sort_by_key(&mut by_index);
     // The runs' sorts and the copies in two halves on rayon, split between two indices (this
     // thread's alone, they were a tenth of finding the occurrences, the other thread idle).
     let mut mid = by_index.len() / 2;
@@ -95,7 +95,7 @@ fn sort_runs<'a>(
 ) {
     type Key = (u32, u64, u8, u32, u32, bool, u32);
     let key = |i: usize, o: &Occ| -> Key {
-        let t = super::radix::f64_key(o.key.1);
+        let t = super::fast::radix::f64_key(o.key.1);
         let (tag, a, c, d) = match o.elem {
             Elem::V(v) => (0, v, 0, false),
             Elem::E { edge, at, on_point } => (1, edge, at, on_point),
@@ -107,7 +107,7 @@ fn sort_runs<'a>(
     for run in by_index.chunk_by(|a, b| a.0 == b.0) {
         keys.clear();
         keys.extend(run.iter().map(|&(_, i)| key(i as usize, &occ[i as usize])));
-        super::radix::small_sort(&mut keys);
+        super::fast::radix::small_sort(&mut keys);
         for k in &keys {
             out.next()
                 .expect("a slot per entry")
@@ -183,7 +183,7 @@ pub(crate) fn find_occurrences<'b>(
             None => (DVec2::NAN, (0, 0)),
         })
         .collect();
-    let (locate, (chunks, on_stroke)) = super::ordered::join(make_locate, || {
+    let (locate, (chunks, on_stroke)) = super::fast::schedule::join(make_locate, || {
         // Vertices on the stroke, once per vertex of a cuttable face (the edge loop would find
         // each from all its edges). First: the edge loop skips most pairs at the polyline
         // points they give. Only vertices on the stroke's band can be on it: the others are
@@ -816,7 +816,7 @@ pub(crate) fn chains(
     let mut links = visit_links(region, line, occ, lo..hi);
     // By first element; each one's links were made with ascending second elements, and the
     // radix sort is stable, so this is the order of the pairs.
-    super::radix::sort_by_key(&mut links);
+    super::fast::radix::sort_by_key(&mut links);
     links.dedup();
     let n = hi - lo;
     let mut out_deg = vec![0u32; n];
@@ -907,7 +907,7 @@ mod tests {
     /// below and above the size at which its two halves run apart, with ties in both.
     #[test]
     fn occurrences_sort_as_a_comparison_sort_would() {
-        let mut rnd = crate::cut::radix::tests::xorshift(0x1234_5678_9abc_def1);
+        let mut rnd = crate::cut::fast::radix::tests::xorshift(0x1234_5678_9abc_def1);
         for n in [0usize, 1, 5, 300, 511, 512, 2000] {
             let occ: Vec<Occ> = (0..n)
                 .map(|i| {

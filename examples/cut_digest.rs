@@ -8,7 +8,8 @@
 //! cargo run --release --example cut_digest -- 30000 > after.txt && diff before.txt after.txt
 //! ```
 //!
-//! `--detail` adds a second hash per case, of the edits with the report's mean edge lengths
+//! `--plain` runs the plain path (`cut_edits_plain`: no grid, SIMD, buckets or radix sorts)
+//! instead, which must print the same lines. `--detail` adds a second hash per case, of the edits with the report's mean edge lengths
 //! left out (a change in how L is rounded then shows apart from a change in the edits), and
 //! `--case K` prints case K's edits whole.
 //!
@@ -20,7 +21,7 @@ use std::collections::BTreeMap;
 use std::hash::{Hash, Hasher};
 
 use glam::DVec2;
-use katachi::cut::{cut_edits, CutMode, CutOptions, Stroke};
+use katachi::cut::{cut_edits, cut_edits_plain, CutMode, CutOptions, Stroke};
 use katachi::mesh::shapes;
 use katachi::PolyMesh;
 
@@ -36,6 +37,7 @@ fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let n: u64 = args.first().and_then(|s| s.parse().ok()).unwrap_or(3000);
     let detail = args.iter().any(|a| a == "--detail");
+    let plain = args.iter().any(|a| a == "--plain");
     let only: Option<u64> = args
         .iter()
         .position(|a| a == "--case")
@@ -119,7 +121,11 @@ fn main() {
         if only.is_some_and(|k| k != case) {
             continue;
         }
-        let r = cut_edits(&mesh, &Stroke::new(p), &view, &o);
+        let r = if plain {
+            cut_edits_plain(&mesh, &Stroke::new(p), &view, &o)
+        } else {
+            cut_edits(&mesh, &Stroke::new(p), &view, &o)
+        };
         let text = match &r {
             Ok(e) => format!("{e:?}"),
             Err(e) => format!("error {e}"),

@@ -8,8 +8,12 @@
 
 use glam::DVec3;
 
+use super::geom::map3;
+use super::ids::Lv;
 use super::interpolate::Provenance;
+use super::region::Region;
 use super::report::{CutOutput, CutReport};
+use super::split_patterns::Splitter;
 use super::{assemble, triangulate};
 use crate::error::{Error, Result};
 use crate::mesh::{FaceId, PolyMesh, VertexId};
@@ -62,6 +66,65 @@ impl std::fmt::Debug for CutEdits {
 }
 
 impl CutEdits {
+    /// The edits of a cut of a mesh with `input_vertex_count` vertices and
+    /// `input_triangle_count` triangles once triangulated: the faces the splitter touched,
+    /// its new vertices (split vertices, then the opening copies of `copy_of`), the edges it
+    /// split; `gid` maps the region's vertices and the new ones to output ids.
+    pub(crate) fn collect(
+        (input_vertex_count, input_triangle_count): (u32, u32),
+        region: &Region,
+        mut sp: Splitter,
+        copy_of: &[Lv],
+        gid: &dyn Fn(Lv) -> VertexId,
+        report: CutReport,
+    ) -> Self {
+        let to_global = |t: &[Lv; 3]| map3(*t, gid);
+        let n = sp.touched.len();
+        let mut rewritten_faces = Vec::with_capacity(n);
+        let mut appended_faces = Vec::with_capacity(2 * n);
+        // Ascending faces of the region are ascending triangles: rewritten in order.
+        for (f, subs) in sp.touched_in_order() {
+            let slot = FaceId(region.triangle(f));
+            rewritten_faces.push((slot, to_global(&subs[0])));
+            appended_faces.extend(subs[1..].iter().map(|t| (to_global(t), slot)));
+        }
+        debug_assert!(rewritten_faces.is_sorted_by_key(|x| x.0));
+        let n_split = sp.new_pos.len() - copy_of.len();
+        let (mut split_ends, mut split_start, mut split_on) = (
+            Vec::with_capacity(n_split),
+            Vec::with_capacity(n_split + 1),
+            Vec::with_capacity(n_split),
+        );
+        split_start.push(0u32);
+        for e in (0..region.edge_count() as u32).map(super::ids::Le) {
+            let on = sp.edge_vertices(e);
+            if !on.is_empty() {
+                let [u, w] = region.ends(e);
+                split_ends.push((gid(u), gid(w)));
+                split_on.extend(on.iter().map(|&(_, m)| gid(m)));
+                split_start.push(split_on.len() as u32);
+            }
+        }
+        let report = CutReport {
+            new_vertices: sp.new_pos.len() as u32,
+            new_faces: appended_faces.len() as u32,
+            ..report
+        };
+        CutEdits {
+            input_vertex_count,
+            input_triangle_count,
+            new_vertices: std::mem::take(&mut sp.new_pos),
+            rewritten_faces,
+            appended_faces,
+            split_ends,
+            split_start,
+            split_on,
+            report,
+            first_copy: input_vertex_count + n_split as u32,
+            copy_of: copy_of.iter().map(|&v| gid(v).0).collect(),
+        }
+    }
+
     /// Input edges the cut split: (end, end, the new vertices on it from the first end to the
     /// second), ascending by (smaller end, larger end). Edge attributes (sharpness) follow
     /// the pieces.

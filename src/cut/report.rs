@@ -2,6 +2,14 @@
 
 use glam::DVec3;
 
+use super::first_normalization::{key_cmp, Elem, Elements};
+use super::geom::in_triangle;
+use super::ids::Lv;
+use super::path_and_opening::{Path, Steps};
+use super::region::{EdgeLength, Region};
+use super::snap::Snapped;
+use super::stroke_checks::{Pieces, Prepared};
+use super::triangulate::Triangles;
 use crate::mesh::{FaceId, PolyMesh, VertexId};
 
 /// The result of a cut.
@@ -121,4 +129,183 @@ impl CutReport {
     pub fn nothing_cut(&self) -> bool {
         self.paths.is_empty() && self.moved.is_empty() && self.new_faces == 0
     }
+}
+
+/// What the report is built from ([`build`]).
+pub(crate) struct Parts<'a> {
+    pub prep: &'a Prepared,
+    pub snapped: &'a Snapped,
+    pub pieces: &'a Pieces,
+    pub elements: &'a Elements<'a>,
+    /// Whether each occurrence is in a normalized array.
+    pub placed: &'a [bool],
+    pub paths: &'a [Path],
+    pub rerouted: &'a Steps,
+    pub unjoined: &'a Steps,
+    pub clipped: &'a [u32],
+    pub length: &'a EdgeLength,
+    pub tris: &'a Triangles<'a>,
+    pub region: &'a Region,
+    /// Output vertex ids of the region's vertices and the cut's new ones.
+    pub gid: &'a dyn Fn(Lv) -> VertexId,
+}
+
+/// The report's lists (the counts are the caller's).
+pub(crate) fn build(p: &Parts) -> CutReport {
+    let Parts {
+        prep,
+        snapped,
+        pieces,
+        elements,
+        placed,
+        paths,
+        rerouted,
+        unjoined,
+        clipped,
+        length,
+        tris,
+        region,
+        gid,
+    } = *p;
+    let line = &snapped.line;
+    let mut moved: Vec<VertexMove> = snapped
+        .moves
+        .iter()
+        .map(|&(lv, from, to, pixels)| VertexMove {
+            vertex: gid(lv),
+            from,
+            to,
+            pixels,
+        })
+        .collect();
+    moved.sort_by_key(|m| m.vertex);
+    let max_move_world = moved
+        .iter()
+        .map(|m| (m.to - m.from).length())
+        .fold(0.0, f64::max);
+    let max_move_px = moved.iter().map(|m| m.pixels).fold(0.0, f64::max);
+    let mut snaps_refused: Vec<VertexId> = snapped.refused.iter().map(|&v| gid(v)).collect();
+    snaps_refused.sort_unstable();
+    let mut paths: Vec<CutPath> = paths
+        .iter()
+        .map(|p| {
+            let mut vertices: Vec<VertexId> = p.verts.iter().map(|&v| gid(v)).collect();
+            let closed = vertices.len() > 2 && vertices.first() == vertices.last();
+            if closed {
+                vertices.pop();
+            }
+            CutPath {
+                piece: p.piece,
+                vertices,
+                closed,
+            }
+        })
+        .collect();
+    if pieces.artificial && paths.len() == 2 && paths[0].piece == 0 && paths[1].piece == 1 {
+        let (a, b) = (&paths[0].vertices, &paths[1].vertices);
+        // Joined, the halves must enclose something: at least three distinct vertices.
+        let distinct = {
+            let mut v: Vec<VertexId> = a.iter().chain(b.iter()).copied().collect();
+            v.sort_unstable();
+            v.dedup();
+            v.len()
+        };
+        if a.last() == b.first() && b.last() == a.first() && distinct >= 3 {
+            let mut joined = a.clone();
+            joined.extend_from_slice(&b[1..b.len() - 1]);
+            paths = vec![CutPath {
+                piece: 0,
+                vertices: joined,
+                closed: true,
+            }];
+        }
+    }
+    let mut ends_moved_to_edges: Vec<u32> = elements
+        .ends_moved
+        .iter()
+        .filter_map(|&j| line.src[j as usize].map(|k| prep.input_index[k as usize]))
+        .collect();
+    ends_moved_to_edges.sort_unstable();
+    ends_moved_to_edges.dedup();
+    let tri_face = |t: u32| match &tris.origin {
+        Some(o) => o[t as usize],
+        None => FaceId(t),
+    };
+    let mut clipped_faces: Vec<FaceId> = clipped.iter().map(|&t| tri_face(t)).collect();
+    clipped_faces.dedup();
+    let mut degenerate_faces: Vec<FaceId> =
+        length.degenerate_met.iter().map(|&t| tri_face(t)).collect();
+    degenerate_faces.sort_unstable();
+    degenerate_faces.dedup();
+    let global_steps = |steps: &Steps| -> Vec<(u32, VertexId, VertexId)> {
+        steps.iter().map(|&(p, u, w)| (p, gid(u), gid(w))).collect()
+    };
+    CutReport {
+        moved,
+        max_move_world,
+        max_move_px,
+        snaps_refused,
+        paths,
+        unjoined: global_steps(unjoined),
+        ends_moved_to_edges,
+        rerouted: global_steps(rerouted),
+        clipped_faces,
+        degenerate_faces,
+        dropped: dropped_points(prep, snapped, elements, placed, region),
+        ..Default::default()
+    }
+}
+
+/// Sorts every input stroke point by what became of it.
+fn dropped_points(
+    prep: &Prepared,
+    snapped: &Snapped,
+    elements: &Elements,
+    placed: &[bool],
+    region: &Region,
+) -> DroppedPoints {
+    let (line, occ, in_chain) = (&snapped.line, &elements.occ, &elements.in_chain);
+    let mut d = DroppedPoints {
+        preprocessing: prep.dropped.clone(),
+        ..Default::default()
+    };
+    let last = line.pts.len() - 1;
+    for (j, src) in line.src.iter().enumerate() {
+        let Some(k) = *src else { continue };
+        if prep.closed && j == last {
+            continue;
+        }
+        let input = prep.input_index[k as usize];
+        let lo = occ.partition_point(|o| key_cmp(o.key, (j as u32, 0.0)).is_lt());
+        let hi = occ.partition_point(|o| key_cmp(o.key, (j as u32, 0.0)).is_le());
+        let here = lo..hi;
+        if here.clone().any(|i| placed[i]) {
+            continue;
+        }
+        if here.clone().any(|i| in_chain[i]) {
+            d.second_normalization.push(input);
+            continue;
+        }
+        let s = line.pts[j];
+        let inside = elements.locate.faces_at(region, s).into_iter().any(|f| {
+            if !region.cuttable(f) {
+                return false;
+            }
+            let [a, b, c] = region.face_screen(f);
+            in_triangle(a, b, c, region.sign(f), s) == Some(true)
+        });
+        if inside && !here.clone().any(|i| matches!(occ[i].elem, Elem::P { .. })) {
+            d.first_normalization.push(input);
+        } else {
+            d.off_mesh.push(input);
+        }
+    }
+    for v in [
+        &mut d.first_normalization,
+        &mut d.second_normalization,
+        &mut d.off_mesh,
+    ] {
+        v.sort_unstable();
+    }
+    d
 }

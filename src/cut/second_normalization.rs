@@ -6,14 +6,15 @@
 //! collapse, and a crossing of an edge next to one of that edge's own end vertices is dropped.
 
 use super::first_normalization::{elem_faces, Elem, Occ};
-use super::region::{Region, NONE};
+use super::ids::Lf;
+use super::region::Region;
 
-/// A normalized element array: consecutive elements share `faces[k]` (`NONE` when they are
-/// the two ends of one edge, or on one edge: the path runs along it).
+/// A normalized element array: consecutive elements share `faces[k]` ([`Lf::NONE`] when they
+/// are the two ends of one edge, or on one edge: the path runs along it).
 #[derive(Debug, Clone)]
 pub(crate) struct Normalized {
     pub occ: Vec<u32>,
-    pub faces: Vec<u32>,
+    pub faces: Vec<Lf>,
 }
 
 fn same_class(x: Elem, y: Elem) -> bool {
@@ -44,7 +45,7 @@ fn collapse(region: &Region, occ: &[Occ], a: &mut Vec<u32>) {
         }
         k = j;
     }
-    let ends_of = |e: u32, v: u32| region.edges[e as usize].contains(&v);
+    let ends_of = |e, v| region.ends(e).contains(&v);
     let mut idx: Vec<usize> = Vec::with_capacity(n);
     idx.extend((0..n).filter(|&i| keep[i]));
     for (p, &i) in idx.iter().enumerate() {
@@ -67,8 +68,7 @@ fn collapse(region: &Region, occ: &[Occ], a: &mut Vec<u32>) {
 
 /// Fig. 9 over the faces of A in ascending order, repeated until a pass removes nothing.
 /// Returns whether anything was removed. Most arrays need no removal, which
-/// [`crossed_twice`] tells without ordering the elements by face (spot, through all: the
-/// normalization step 15% faster).
+/// [`crossed_twice`] tells without ordering the elements by face.
 fn fig9(region: &Region, occ: &[Occ], a: &mut Vec<u32>) -> bool {
     if !crossed_twice(region, occ, a) {
         debug_assert!(
@@ -86,12 +86,12 @@ fn fig9_passes(region: &Region, occ: &[Occ], a: &mut Vec<u32>) -> bool {
     let n = a.len();
     // Each face's positions in A, ascending (a counting sort by face: the faces are the
     // region's, a few thousand).
-    let nf = region.tri.len();
+    let nf = region.face_count();
     let mut scratch = Vec::new();
     let mut entries: Vec<(u32, u32)> = Vec::new();
     for (k, &o) in a.iter().enumerate() {
         elem_faces(region, occ[o as usize].elem, &mut scratch);
-        entries.extend(scratch.iter().map(|&f| (f, k as u32)));
+        entries.extend(scratch.iter().map(|&f| (f.0, k as u32)));
     }
     let (start, at) = super::fast::radix::group_by_key(nf, &entries);
     let mut alive = vec![true; n];
@@ -144,12 +144,13 @@ fn fig9_passes(region: &Region, occ: &[Occ], a: &mut Vec<u32>) -> bool {
 /// in `a` have an element between them. The usual answer is no, found here from each face's
 /// first position alone, without ordering the elements by face.
 fn crossed_twice(region: &Region, occ: &[Occ], a: &[u32]) -> bool {
-    let mut first = vec![NONE; region.tri.len()];
+    const NONE: u32 = u32::MAX;
+    let mut first = vec![NONE; region.face_count()];
     let mut faces = Vec::new();
     for (k, &o) in a.iter().enumerate() {
         elem_faces(region, occ[o as usize].elem, &mut faces);
         for &f in &faces {
-            let at = &mut first[f as usize];
+            let at = &mut first[f.idx()];
             if *at == NONE {
                 *at = k as u32;
             } else if k as u32 > *at + 1 {
@@ -201,12 +202,12 @@ pub(crate) fn normalize(region: &Region, occ: &[Occ], chain: &[u32]) -> Vec<Norm
                         || region
                             .vertex_faces(u)
                             .iter()
-                            .any(|&f| region.tri[f as usize].contains(&w))
+                            .any(|&f| region.corners(f).contains(&w))
                 }
                 _ => false,
             };
             match (common, along) {
-                (_, true) => cur.faces.push(NONE),
+                (_, true) => cur.faces.push(Lf::NONE),
                 (Some(f), false) => cur.faces.push(f),
                 (None, false) => {
                     if cur.occ.len() >= 2 {

@@ -6,12 +6,17 @@
 use glam::{DVec2, DVec3};
 use rayon::prelude::*;
 
-use super::fast::grid::CellGrid;
+use super::fast::SegmentIndex;
 use super::geom::orient;
+use super::ids::Lv;
 use super::options::CutOptions;
-use super::region::{Region, NONE};
+use super::region::Region;
 use super::stroke_checks::Prepared;
 use super::view::Projector;
+use super::visibility::Visibility;
+
+/// No polyline point.
+const NONE: u32 = u32::MAX;
 
 /// The stroke after snapping, as a polyline of points.
 #[derive(Debug, Clone)]
@@ -29,58 +34,88 @@ pub(crate) struct Snapped {
     pub seg_range: Vec<(u32, u32)>,
     /// The polyline index of each prepared point.
     pub start_of: Vec<u32>,
-    /// (local vertex, from, to, pixels), in snapping order.
-    pub moves: Vec<(u32, DVec3, DVec3, f64)>,
+    /// (vertex, from, to, pixels), in snapping order.
+    pub moves: Vec<(Lv, DVec3, DVec3, f64)>,
     /// The polyline point each move put its vertex on (`moves`' order).
     pub move_points: Vec<u32>,
-    /// Local vertices within reach whose move the fold-over guard refused.
-    pub refused: Vec<u32>,
+    /// Vertices within reach whose move the fold-over guard refused.
+    pub refused: Vec<Lv>,
 }
 
-/// Steps 2 and 3 of spec §4. `allowed[v]`: the vertex may move (complete, projectable, and in
-/// visible-only mode front-facing all round and seen).
+/// Steps 2 and 3 of spec §4 on the region, which holds every vertex within the snap
+/// distance `reach` of the stroke (prepared as `prep`, its segments `segments` indexed by
+/// `index`); L is `l` pixels. A vertex may move when every face around it is in the region,
+/// in front of the eye and one of them cuttable (all of them, and the vertex seen, in
+/// visible-only mode: `visibility`, which records the moves).
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn snap(
     region: &mut Region,
-    allowed: &[bool],
     prep: &Prepared,
     segments: &[(DVec2, DVec2)],
-    grid: &CellGrid,
+    index: &SegmentIndex,
     l: f64,
+    reach: f64,
     options: &CutOptions,
     proj: &Projector,
+    visibility: Option<&mut Visibility>,
 ) -> Snapped {
+    // A vertex the user could not see does not move (tested only within reach).
+    let allowed: Vec<bool> = {
+        let (region, vis) = (&*region, visibility.as_deref());
+        region
+            .vertices()
+            .collect::<Vec<Lv>>()
+            .into_par_iter()
+            .with_min_len(256)
+            .map(|v| {
+                let (Some(seen), true) = (region.seen(v), region.movable(v)) else {
+                    return false;
+                };
+                let Some(vis) = vis else {
+                    return true;
+                };
+                index.distance_to(seen.screen, segments) >= reach
+                    || !vis.hidden(
+                        region,
+                        seen.screen,
+                        seen.z,
+                        region.pos(v),
+                        false,
+                        region.vertex_faces(v),
+                    )
+            })
+            .collect()
+    };
     let n = prep.points.len();
     let rv = options.snap_vertex_ratio * l;
     let rs = options.snap_segment_ratio * l;
     let min_area2 = 2e-12 * l * l;
     let mut taken = vec![false; n];
-    let mut snapped = vec![false; region.verts.len()];
-    let mut moves = Vec::with_capacity(region.verts.len() / 4);
-    let mut targets: Vec<Target> = Vec::with_capacity(region.verts.len() / 4);
-    let mut refused_any = vec![false; region.verts.len()];
-
-    // Nearby segments of a screen point, from its grid cell (the margin covers max(rv, rs)).
-    let near = |s: DVec2| grid.segments_near(s);
+    let nv = region.vertex_count();
+    let mut snapped = vec![false; nv];
+    let mut moves = Vec::with_capacity(nv / 4);
+    let mut targets: Vec<Target> = Vec::with_capacity(nv / 4);
+    let mut refused_any = vec![false; nv];
 
     // Each movable vertex's nearest stroke vertex within rv (step 2) and nearest foot on a
-    // stroke segment within rs (step 3), on rayon in vertex order, in one pass (two passes
-    // each took the vertices and their nearby segments again). A foot stays valid for step
-    // 3: step 2 moves only the vertices it snaps, which step 3 skips.
+    // stroke segment within rs (step 3), in one pass over the segments near it (the
+    // index's margin covers max(rv, rs)). A foot stays valid for step 3: step 2 moves only
+    // the vertices it snaps, which step 3 skips.
     #[allow(clippy::type_complexity)]
-    let found: Vec<(u32, Option<(f64, u32)>, Option<(f64, u32, f64, DVec2)>)> = {
+    let found: Vec<(Lv, Option<(f64, u32)>, Option<(f64, u32, f64, DVec2)>)> = {
         let region = &*region;
-        (0..region.verts.len() as u32)
+        (0..nv as u32)
             .into_par_iter()
             .with_min_len(512)
             .filter_map(|v| {
-                if !allowed[v as usize] {
+                let v = Lv(v);
+                if !allowed[v.idx()] {
                     return None;
                 }
                 let s = region.screen(v);
                 let mut point: Option<(f64, u32)> = None;
                 let mut foot: Option<(f64, u32, f64, DVec2)> = None;
-                for &si in near(s) {
+                for &si in index.near_point(s) {
                     if rv > 0.0 {
                         for k in [si as usize, (si as usize + 1) % n] {
                             let d = (prep.points[k] - s).length();
@@ -113,7 +148,7 @@ pub(crate) fn snap(
 
     // Step 2: to stroke vertices; each stroke vertex takes its nearest model vertex, taken
     // nearest first.
-    let mut pairs: Vec<(f64, u32, u32)> = found
+    let mut pairs: Vec<(f64, Lv, u32)> = found
         .iter()
         .filter_map(|&(v, point, _)| point.map(|(d, k)| (d, v, k)))
         .collect();
@@ -121,34 +156,33 @@ pub(crate) fn snap(
     // bits sort as they do).
     pairs.sort_unstable_by_key(|p| (p.0.to_bits(), p.1));
     for &(_, v, k) in &pairs {
-        if taken[k as usize] || snapped[v as usize] {
+        if taken[k as usize] || snapped[v.idx()] {
             continue;
         }
         let q = prep.points[k as usize];
         if guard(region, v, q, min_area2) {
             moves.push(apply(region, proj, v, q));
             targets.push(Target::Point(k));
-            snapped[v as usize] = true;
+            snapped[v.idx()] = true;
             taken[k as usize] = true;
         } else {
-            refused_any[v as usize] = true;
+            refused_any[v.idx()] = true;
         }
     }
 
     // Step 3: onto stroke segments; each snap inserts a stroke point at the foot.
     // (dist, v, seg, t, q) of the vertices step 2 left where they were.
-    let feet: Vec<(f64, u32, u32, f64, DVec2)> = found
+    let feet: Vec<(f64, Lv, u32, f64, DVec2)> = found
         .iter()
-        .filter(|&&(v, ..)| !snapped[v as usize])
+        .filter(|&&(v, ..)| !snapped[v.idx()])
         .filter_map(|&(v, _, foot)| foot.map(|(d, si, t, q)| (d, v, si, t, q)))
         .collect();
-    // By distance, then vertex (one foot per vertex), as in step 2: a sort of packed keys
-    // with each foot's index, not of the 48-byte feet (with the sort of the inserted points
-    // below, 9% to 15% of this step on spot).
+    // By distance, then vertex (one foot per vertex), as in step 2, as packed keys with
+    // each foot's index.
     let mut keys: Vec<u128> = feet
         .iter()
         .enumerate()
-        .map(|(i, f)| (f.0.to_bits() as u128) << 64 | (f.1 as u128) << 32 | i as u128)
+        .map(|(i, f)| (f.0.to_bits() as u128) << 64 | (f.1 .0 as u128) << 32 | i as u128)
         .collect();
     keys.sort_unstable();
     // Every foot a vertex was moved to (those at a segment's end too: they say where the
@@ -159,17 +193,19 @@ pub(crate) fn snap(
             targets.push(Target::Foot(placed.len() as u32));
             placed.push((si, t, q));
             moves.push(apply(region, proj, v, q));
-            snapped[v as usize] = true;
-            refused_any[v as usize] = false;
+            snapped[v.idx()] = true;
+            refused_any[v.idx()] = false;
         } else {
-            refused_any[v as usize] = true;
+            refused_any[v.idx()] = true;
         }
     }
     // By segment, then parameter, ties in snapping order (a stable sort, as packed keys).
     let mut keys: Vec<u128> = placed
         .iter()
         .enumerate()
-        .map(|(i, x)| (x.0 as u128) << 96 | (super::fast::radix::f64_key(x.1) as u128) << 32 | i as u128)
+        .map(|(i, x)| {
+            (x.0 as u128) << 96 | (super::fast::radix::f64_key(x.1) as u128) << 32 | i as u128
+        })
         .collect();
     keys.sort_unstable();
     let order: Vec<u32> = keys.iter().map(|&k| k as u32).collect();
@@ -256,9 +292,13 @@ pub(crate) fn snap(
             Target::Foot(f) => foot_point[f as usize],
         })
         .collect();
-    let refused = (0..region.verts.len() as u32)
-        .filter(|&v| refused_any[v as usize] && !snapped[v as usize])
+    let refused = region
+        .vertices()
+        .filter(|&v| refused_any[v.idx()] && !snapped[v.idx()])
         .collect();
+    if let Some(vis) = visibility {
+        vis.before.mark_moved(moves.iter().map(|m| m.0));
+    }
     Snapped {
         line,
         seg_range,
@@ -279,26 +319,24 @@ enum Target {
 
 /// Fold-over guard (spec §4 step 2, gap-fill): moving `v` to `q` keeps every non-degenerate
 /// face around it turning the same way, with area at least 1e-12·L².
-fn guard(region: &Region, v: u32, q: DVec2, min_area2: f64) -> bool {
-    let at = |x: u32| if x == v { q } else { region.screen(x) };
-    region.vertex_faces(v).iter().all(|&lf| {
-        let sign = region.sign[lf as usize];
+fn guard(region: &Region, v: Lv, q: DVec2, min_area2: f64) -> bool {
+    let at = |x: Lv| if x == v { q } else { region.screen(x) };
+    region.vertex_faces(v).iter().all(|&f| {
+        let sign = region.sign(f);
         if sign == 0.0 {
             return true;
         }
-        // Corner by corner: `t.map(at)` was a call that returned the points through memory.
-        let [a, b, c] = region.tri[lf as usize];
+        let [a, b, c] = region.corners(f);
         let o = orient(at(a), at(b), at(c));
         o * sign > 0.0 && o.abs() >= min_area2
     })
 }
 
-fn apply(region: &mut Region, proj: &Projector, v: u32, q: DVec2) -> (u32, DVec3, DVec3, f64) {
-    let seen = region.seen.get(v).expect("a projectable vertex");
-    let from = region.pos[v as usize];
+fn apply(region: &mut Region, proj: &Projector, v: Lv, q: DVec2) -> (Lv, DVec3, DVec3, f64) {
+    let seen = region.seen(v).expect("a projectable vertex");
+    let from = region.pos(v);
     let px = (q - seen.screen).length();
     let to = proj.unproject(q, seen.w, seen.z);
-    region.seen.screen[v as usize] = q;
-    region.pos[v as usize] = to;
+    region.move_vertex(v, q, to);
     (v, from, to, px)
 }

@@ -19,10 +19,16 @@ use smallvec::SmallVec;
 
 use super::first_normalization::{elem_depth, Elem, Occ};
 use super::geom::{in_triangle, map3, max_cos_sides, orient};
-use super::region::{Region, NONE};
+use super::ids::{Le, Lf, Lv};
+use super::path_and_opening::Path;
+use super::region::Region;
+use super::second_normalization::Normalized;
+
+/// No item.
+const NONE: u32 = u32::MAX;
 
 /// A touched face's sub-triangles: at most four but where pieces meet in one face.
-pub(crate) type Pieces = SmallVec<[[u32; 3]; 4]>;
+pub(crate) type Pieces = SmallVec<[[Lv; 3]; 4]>;
 
 /// Items for a few of `n` keys, stored in order of first use: most of the region's faces
 /// and edges are never touched, and per-key storage cost more to set up than to fill.
@@ -41,40 +47,38 @@ impl<T> Pool<T> {
         }
     }
 
-    fn get(&self, key: u32) -> Option<&T> {
-        let k = self.slot[key as usize];
+    fn get(&self, key: usize) -> Option<&T> {
+        let k = self.slot[key];
         (k != NONE).then(|| &self.items[k as usize])
     }
 
     /// The item of `key`, made by `new` on first use (then `true`).
-    fn get_or_insert(&mut self, key: u32, new: impl FnOnce() -> T) -> (&mut T, bool) {
-        let first = self.slot[key as usize] == NONE;
+    fn get_or_insert(&mut self, key: usize, new: impl FnOnce() -> T) -> (&mut T, bool) {
+        let first = self.slot[key] == NONE;
         if first {
-            self.slot[key as usize] = self.items.len() as u32;
+            self.slot[key] = self.items.len() as u32;
             self.items.push(new());
         }
-        (&mut self.items[self.slot[key as usize] as usize], first)
+        (&mut self.items[self.slot[key] as usize], first)
     }
 }
 
 pub(crate) struct Splitter<'r> {
     pub r: &'r Region,
-    /// New vertices (local ids from `r.verts.len()` on).
+    /// New vertices (ids from the region's vertex count on).
     pub new_pos: Vec<DVec3>,
     pub new_screen: Vec<DVec2>,
     /// Sub-triangles of the touched faces (the pool's items are in `touched`'s order).
     pieces: Pool<Pieces>,
     /// Touched faces in order of first touch.
-    pub touched: Vec<u32>,
-    /// Vertices on each split local edge, by screen parameter from its first to its second
-    /// end.
-    on_edge: Pool<SmallVec<[(f64, u32); 2]>>,
+    pub touched: Vec<Lf>,
+    /// Vertices on each split edge, by screen parameter from its first to its second end.
+    on_edge: Pool<SmallVec<[(f64, Lv); 2]>>,
     /// The vertex of each E element already placed, by edge: (stroke index, on a stroke
-    /// point, vertex); an edge has one or two (a hashed map of elements cost a tenth of the
-    /// normalization).
-    placed_e: Pool<SmallVec<[(u32, bool, u32); 1]>>,
+    /// point, vertex); an edge has one or two.
+    placed_e: Pool<SmallVec<[(u32, bool, Lv); 1]>>,
     /// The vertex of each P element already placed (a piece end inside a face: few).
-    placed: FxHashMap<Elem, u32>,
+    placed: FxHashMap<Elem, Lv>,
     /// Screen distance under which a constructed point is an existing vertex (1e-9·L).
     eps_px: f64,
 }
@@ -84,59 +88,64 @@ impl<'r> Splitter<'r> {
         Splitter {
             r,
             // Sized for a usual cut (about one edge in eight split, half the faces touched).
-            new_pos: Vec::with_capacity(r.edges.len() / 8),
-            new_screen: Vec::with_capacity(r.edges.len() / 8),
-            pieces: Pool::new(r.tri.len()),
-            touched: Vec::with_capacity(r.tri.len() / 2),
-            on_edge: Pool::new(r.edges.len()),
-            placed_e: Pool::new(r.edges.len()),
+            new_pos: Vec::with_capacity(r.edge_count() / 8),
+            new_screen: Vec::with_capacity(r.edge_count() / 8),
+            pieces: Pool::new(r.face_count()),
+            touched: Vec::with_capacity(r.face_count() / 2),
+            on_edge: Pool::new(r.edge_count()),
+            placed_e: Pool::new(r.edge_count()),
             placed: FxHashMap::default(),
             eps_px: 1e-9 * l_px.max(1.0),
         }
     }
 
     fn n0(&self) -> u32 {
-        self.r.verts.len() as u32
+        self.r.vertex_count() as u32
     }
 
-    pub fn screen(&self, v: u32) -> DVec2 {
-        if v < self.n0() {
+    /// Whether `v` is a vertex the cut added.
+    pub fn is_new(&self, v: Lv) -> bool {
+        v.0 >= self.n0()
+    }
+
+    pub fn screen(&self, v: Lv) -> DVec2 {
+        if v.0 < self.n0() {
             self.r.screen(v)
         } else {
-            self.new_screen[(v - self.n0()) as usize]
+            self.new_screen[(v.0 - self.n0()) as usize]
         }
     }
 
-    pub fn pos(&self, v: u32) -> DVec3 {
-        if v < self.n0() {
-            self.r.pos[v as usize]
+    pub fn pos(&self, v: Lv) -> DVec3 {
+        if v.0 < self.n0() {
+            self.r.pos(v)
         } else {
-            self.new_pos[(v - self.n0()) as usize]
+            self.new_pos[(v.0 - self.n0()) as usize]
         }
     }
 
-    fn add_vertex(&mut self, p: DVec3, s: DVec2) -> u32 {
+    fn add_vertex(&mut self, p: DVec3, s: DVec2) -> Lv {
         self.new_pos.push(p);
         self.new_screen.push(s);
-        self.n0() + self.new_pos.len() as u32 - 1
+        Lv(self.n0() + self.new_pos.len() as u32 - 1)
     }
 
     /// A new vertex at the same place as `v` (opening).
-    pub fn copy_vertex(&mut self, v: u32) -> u32 {
+    pub fn copy_vertex(&mut self, v: Lv) -> Lv {
         let (p, s) = (self.pos(v), self.screen_or_zero(v));
         self.add_vertex(p, s)
     }
 
-    fn screen_or_zero(&self, v: u32) -> DVec2 {
-        if v < self.n0() {
-            self.r.seen.get(v).map_or(DVec2::ZERO, |s| s.screen)
+    fn screen_or_zero(&self, v: Lv) -> DVec2 {
+        if v.0 < self.n0() {
+            self.r.seen(v).map_or(DVec2::ZERO, |s| s.screen)
         } else {
-            self.new_screen[(v - self.n0()) as usize]
+            self.new_screen[(v.0 - self.n0()) as usize]
         }
     }
 
     /// Replaces corner `v` of sub-triangle `i` of face `lf` by `by`.
-    pub fn replace_corner(&mut self, lf: u32, i: usize, v: u32, by: u32) {
+    pub fn replace_corner(&mut self, lf: Lf, i: usize, v: Lv, by: Lv) {
         let t = &mut self.subs_mut(lf)[i];
         for c in t.iter_mut() {
             if *c == v {
@@ -145,54 +154,52 @@ impl<'r> Splitter<'r> {
         }
     }
 
-    fn subs_mut(&mut self, lf: u32) -> &mut Pieces {
-        // The usual three or four pieces held inline (no allocation per face).
-        let whole = self.r.tri[lf as usize];
+    fn subs_mut(&mut self, lf: Lf) -> &mut Pieces {
+        let whole = self.r.corners(lf);
         let (subs, first) = self
             .pieces
-            .get_or_insert(lf, || Pieces::from_slice(&[whole]));
+            .get_or_insert(lf.idx(), || Pieces::from_slice(&[whole]));
         if first {
             self.touched.push(lf);
         }
         subs
     }
 
-    /// The touched faces in ascending order with their sub-triangles: a walk over every
-    /// face's slot, cheaper than a sort of the few thousand touched.
-    pub fn touched_in_order(&self) -> impl Iterator<Item = (u32, &Pieces)> {
+    /// The touched faces in ascending order with their sub-triangles.
+    pub fn touched_in_order(&self) -> impl Iterator<Item = (Lf, &Pieces)> {
         let items = &self.pieces.items;
         self.pieces
             .slot
             .iter()
             .enumerate()
             .filter(|&(_, &k)| k != NONE)
-            .map(move |(lf, &k)| (lf as u32, &items[k as usize]))
+            .map(move |(lf, &k)| (Lf(lf as u32), &items[k as usize]))
     }
 
     /// The sub-triangles of a touched face.
-    pub fn pieces_of(&self, lf: u32) -> Option<&Pieces> {
-        self.pieces.get(lf)
+    pub fn pieces_of(&self, lf: Lf) -> Option<&Pieces> {
+        self.pieces.get(lf.idx())
     }
 
     /// The current sub-triangles of a face (its triangle when untouched).
-    pub fn face_subs(&self, lf: u32) -> &[[u32; 3]] {
+    pub fn face_subs(&self, lf: Lf) -> &[[Lv; 3]] {
         match self.pieces_of(lf) {
             Some(s) => s,
-            None => std::slice::from_ref(&self.r.tri[lf as usize]),
+            None => std::slice::from_ref(&self.r.all_corners()[lf.idx()]),
         }
     }
 
     /// The path vertex of an element, creating and inserting it on first use. Crossings of
     /// one edge by different chains get their own vertices (a chain crosses an edge once
     /// after normalization); one crossing shared by chains gets one.
-    pub fn vertex_for(&mut self, o: &Occ) -> u32 {
+    pub fn vertex_for(&mut self, o: &Occ) -> Lv {
         if let Elem::V(v) = o.elem {
             return v;
         }
         let known = match o.elem {
             Elem::E { edge, at, on_point } => self
                 .placed_e
-                .get(edge)
+                .get(edge.idx())
                 .and_then(|l| l.iter().find(|x| (x.0, x.1) == (at, on_point)).map(|x| x.2)),
             _ => self.placed.get(&o.elem).copied(),
         };
@@ -201,12 +208,12 @@ impl<'r> Splitter<'r> {
         }
         // Spec §4 step 5: the 3D point is the perspective-correct interpolation.
         let (_, x) = elem_depth(self.r, o);
-        let near = |sp: &Self, v: u32| (sp.screen(v) - o.screen).length() <= sp.eps_px;
+        let near = |sp: &Self, v: Lv| (sp.screen(v) - o.screen).length() <= sp.eps_px;
         let m = match o.elem {
             Elem::E { edge, .. } => {
                 // Spec §4 step 5: a crossing a rounding error from an end hits that vertex;
                 // two crossings a rounding error apart are one.
-                let [a, b] = self.r.edges[edge as usize];
+                let [a, b] = self.r.ends(edge);
                 let list = self.edge_vertices(edge);
                 let existing = [a, b]
                     .into_iter()
@@ -243,7 +250,7 @@ impl<'r> Splitter<'r> {
         match o.elem {
             Elem::E { edge, at, on_point } => self
                 .placed_e
-                .get_or_insert(edge, SmallVec::new)
+                .get_or_insert(edge.idx(), SmallVec::new)
                 .0
                 .push((at, on_point, m)),
             _ => {
@@ -254,19 +261,19 @@ impl<'r> Splitter<'r> {
     }
 
     /// The vertices inserted on a local edge, from its first end to its second.
-    pub fn edge_vertices(&self, e: u32) -> &[(f64, u32)] {
-        self.on_edge.get(e).map_or(&[], |l| l)
+    pub fn edge_vertices(&self, e: Le) -> &[(f64, Lv)] {
+        self.on_edge.get(e.idx()).map_or(&[], |l| l)
     }
 
-    fn insert_on_edge(&mut self, e: u32, m: u32, t: f64) {
-        let [a, b] = self.r.edges[e as usize];
-        let (list, _) = self.on_edge.get_or_insert(e, SmallVec::new);
+    fn insert_on_edge(&mut self, e: Le, m: Lv, t: f64) {
+        let [a, b] = self.r.ends(e);
+        let (list, _) = self.on_edge.get_or_insert(e.idx(), SmallVec::new);
         let k = list.partition_point(|&(x, _)| x < t);
         let u = if k == 0 { a } else { list[k - 1].1 };
         let w = if k == list.len() { b } else { list[k].1 };
         list.insert(k, (t, m));
-        for f in self.r.edge_faces[e as usize] {
-            if f == NONE {
+        for f in self.r.edge_faces(e) {
+            if !f.is_some() {
                 continue;
             }
             let subs = self.subs_mut(f);
@@ -280,8 +287,8 @@ impl<'r> Splitter<'r> {
 
     /// Where `s` lies among face `lf`'s sub-triangles: strictly inside one, or on an inner
     /// sub-edge; `None` when no predicate places it (rounding of constructed vertices).
-    fn locate(&self, lf: u32, s: DVec2) -> Option<Location> {
-        let sign = self.r.sign[lf as usize];
+    fn locate(&self, lf: Lf, s: DVec2) -> Option<Location> {
+        let sign = self.r.sign(lf);
         let subs = self.face_subs(lf);
         let mut on_edge = None;
         for (i, t) in subs.iter().enumerate() {
@@ -306,8 +313,8 @@ impl<'r> Splitter<'r> {
         on_edge
     }
 
-    fn nearest_corner(&self, lf: u32, s: DVec2) -> u32 {
-        let mut best = (f64::INFINITY, NONE);
+    fn nearest_corner(&self, lf: Lf, s: DVec2) -> Lv {
+        let mut best = (f64::INFINITY, Lv::NONE);
         for t in self.face_subs(lf) {
             for &v in t {
                 let d = (self.screen(v) - s).length();
@@ -319,7 +326,7 @@ impl<'r> Splitter<'r> {
         best.1
     }
 
-    fn insert_in_face(&mut self, lf: u32, m: u32, at: Location) {
+    fn insert_in_face(&mut self, lf: Lf, m: Lv, at: Location) {
         let subs = self.subs_mut(lf);
         match at {
             Location::Inside(i) => {
@@ -341,8 +348,8 @@ impl<'r> Splitter<'r> {
     }
 
     /// Makes u-w an edge of face `lf`'s sub-triangles, flipping crossing diagonals if needed.
-    pub fn ensure_chord(&mut self, lf: u32, u: u32, w: u32, protected: &[(u32, u32)]) -> bool {
-        let sign = self.r.sign[lf as usize];
+    pub fn ensure_chord(&mut self, lf: Lf, u: Lv, w: Lv, protected: &[(Lv, Lv)]) -> bool {
+        let sign = self.r.sign(lf);
         for _ in 0..32 {
             if self
                 .face_subs(lf)
@@ -385,12 +392,12 @@ impl<'r> Splitter<'r> {
     /// The shortest route (screen length) from u to w along the edges of face `lf`'s
     /// sub-triangles, inner vertices only; for a chord that crosses another piece's path in
     /// the same face (pieces are normalized apart, so their chords may cross).
-    pub fn route(&self, lf: u32, u: u32, w: u32) -> Option<Vec<u32>> {
+    pub fn route(&self, lf: Lf, u: Lv, w: Lv) -> Option<Vec<Lv>> {
         let subs = self.face_subs(lf);
-        let mut nodes: Vec<u32> = subs.iter().flatten().copied().collect();
+        let mut nodes: Vec<Lv> = subs.iter().flatten().copied().collect();
         nodes.sort_unstable();
         nodes.dedup();
-        let idx = |v: u32| nodes.binary_search(&v).ok();
+        let idx = |v: Lv| nodes.binary_search(&v).ok();
         let (s, t) = (idx(u)?, idx(w)?);
         let n = nodes.len();
         let mut dist = vec![f64::INFINITY; n];
@@ -436,8 +443,8 @@ impl<'r> Splitter<'r> {
 
     /// Flips the diagonal of sub-triangle `i`'s edge `r` if the quadrilateral is strictly
     /// convex (and, with `better`, only if the smallest angle grows).
-    fn try_flip(&mut self, lf: u32, i: usize, r: usize, sign: f64, better: bool) -> bool {
-        let k = self.pieces.slot[lf as usize];
+    fn try_flip(&mut self, lf: Lf, i: usize, r: usize, sign: f64, better: bool) -> bool {
+        let k = self.pieces.slot[lf.idx()];
         if k == NONE {
             // An untouched face has one sub-triangle: nothing to flip.
             return false;
@@ -450,7 +457,7 @@ impl<'r> Splitter<'r> {
 
     /// Max-min-angle flips of the non-path diagonals inside each split face (P2's quad).
     /// Faces are independent (flips stay inside one face), so they run on rayon.
-    pub fn improve(&mut self, is_path_edge: &(dyn Fn(u32, u32) -> bool + Sync)) {
+    pub fn improve(&mut self, is_path_edge: &(dyn Fn(Lv, Lv) -> bool + Sync)) {
         let mut pieces = std::mem::take(&mut self.pieces.items);
         let sp = &*self;
         pieces
@@ -458,12 +465,11 @@ impl<'r> Splitter<'r> {
             .zip(&sp.touched)
             .with_min_len(64)
             .for_each(|(subs, &lf)| {
-                let lf = lf as usize;
-                let sign = sp.r.sign[lf];
+                let sign = sp.r.sign(lf);
                 // Two pieces are a triangle cut from a corner to a point on the opposite side:
                 // their diagonal is a path chord, or flipping it would make that side a
                 // triangle with no area.
-                if sign == 0.0 || !sp.r.cuttable[lf] || subs.len() <= 2 {
+                if sign == 0.0 || !sp.r.cuttable(lf) || subs.len() <= 2 {
                     return;
                 }
                 for _ in 0..3 {
@@ -494,10 +500,42 @@ impl<'r> Splitter<'r> {
     }
 }
 
+/// Splits the faces along normalized array `nz` of piece `piece` (seed 002 Figs. 7, 13): each
+/// element's vertex is placed, splitting the sub-triangles around it, and the path through
+/// them is returned (`None` when it has a single vertex). Marks the occurrences placed in
+/// `placed`.
+pub(crate) fn split_along(
+    sp: &mut Splitter,
+    occ: &[Occ],
+    nz: &Normalized,
+    piece: u32,
+    placed: &mut [bool],
+) -> Option<Path> {
+    let mut verts: Vec<Lv> = Vec::with_capacity(nz.occ.len());
+    let mut faces = Vec::with_capacity(nz.faces.len());
+    for (k, &o) in nz.occ.iter().enumerate() {
+        placed[o as usize] = true;
+        let v = sp.vertex_for(&occ[o as usize]);
+        // A piece end merged into a neighbouring vertex adds no step.
+        if verts.last() == Some(&v) {
+            continue;
+        }
+        if k > 0 {
+            faces.push(nz.faces[k - 1]);
+        }
+        verts.push(v);
+    }
+    (verts.len() >= 2).then_some(Path {
+        piece,
+        verts,
+        faces,
+    })
+}
+
 /// Flips the diagonal across edge `r` of sub-triangle `i` when the quad is strictly convex
 /// and (with `better`) the smallest angle grows; `sp` gives positions (its `subs` unused).
 fn flip(
-    subs: &mut [[u32; 3]],
+    subs: &mut [[Lv; 3]],
     i: usize,
     r: usize,
     sign: f64,
@@ -537,15 +575,15 @@ fn flip(
 #[derive(Debug, Clone, Copy)]
 enum Location {
     Inside(usize),
-    OnEdge(u32, u32),
+    OnEdge(Lv, Lv),
 }
 
-fn rotated(t: [u32; 3], r: usize) -> [u32; 3] {
+fn rotated(t: [Lv; 3], r: usize) -> [Lv; 3] {
     [t[r], t[(r + 1) % 3], t[(r + 2) % 3]]
 }
 
 /// The sub-triangle with directed edge a → b, and the rotation putting a first.
-fn find_edge(subs: &[[u32; 3]], a: u32, b: u32) -> Option<(usize, usize)> {
+fn find_edge(subs: &[[Lv; 3]], a: Lv, b: Lv) -> Option<(usize, usize)> {
     subs.iter().enumerate().find_map(|(i, t)| {
         (0..3)
             .find(|&r| t[r] == a && t[(r + 1) % 3] == b)

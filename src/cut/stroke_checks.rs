@@ -3,9 +3,9 @@
 
 use glam::DVec2;
 
-use super::fast::grid::point_segment_distance;
-use super::geom::{on_segment, orient};
+use super::geom::{on_segment, orient, point_segment_distance};
 use super::options::CutOptions;
+use super::snap::{Polyline, Snapped};
 use super::view::Stroke;
 use crate::error::{Axis, Error, Result};
 
@@ -35,6 +35,74 @@ impl Prepared {
             self.points.len() - 1
         }
     }
+
+    /// The segments, in order.
+    pub fn segments(&self) -> Vec<(DVec2, DVec2)> {
+        let n = self.points.len();
+        (0..self.segment_count())
+            .map(|k| (self.points[k], self.points[(k + 1) % n]))
+            .collect()
+    }
+}
+
+/// The stroke pieces (seed 002 §3.4): the snapped polyline split at the sharp corners.
+pub(crate) struct Pieces {
+    /// The polyline points that end pieces, ascending: the first and last point and the
+    /// corners.
+    pub bounds: Vec<u32>,
+    /// Whether a closed stroke without two corners was split at its middle too (its halves
+    /// are then reported as one closed path when they join up).
+    pub artificial: bool,
+}
+
+impl Pieces {
+    /// Each piece's first and last polyline point.
+    pub fn spans(&self) -> impl Iterator<Item = (u32, u32)> + '_ {
+        self.bounds.windows(2).map(|w| (w[0], w[1]))
+    }
+
+    pub fn count(&self) -> usize {
+        self.bounds.len() - 1
+    }
+}
+
+/// The pieces of the snapped stroke: split at its sharp corners (seed 002 §3.4); a closed
+/// stroke without two corners is cut in two halves whose ends are shared, like corners
+/// (gap-fill).
+pub(crate) fn pieces(prep: &Prepared, snapped: &Snapped) -> Pieces {
+    let line = &snapped.line;
+    let last = line.pts.len() as u32 - 1;
+    let mut bounds: Vec<u32> = vec![0, last];
+    bounds.extend(prep.corners.iter().map(|&c| snapped.start_of[c]));
+    bounds.sort_unstable();
+    bounds.dedup();
+    let artificial = prep.closed && bounds.len() < 3;
+    if artificial {
+        bounds.push(middle_point(line));
+        bounds.sort_unstable();
+        bounds.dedup();
+    }
+    Pieces { bounds, artificial }
+}
+
+/// The polyline point closest to half the length of a closed stroke, preferring points that
+/// hold a model vertex (no interior vertex is then needed there).
+fn middle_point(line: &Polyline) -> u32 {
+    let n = line.pts.len();
+    let mut acc = vec![0.0; n];
+    for i in 1..n {
+        acc[i] = acc[i - 1] + (line.pts[i] - line.pts[i - 1]).length();
+    }
+    let half = acc[n - 1] / 2.0;
+    let pick = |pred: &dyn Fn(usize) -> bool| {
+        (1..n - 1)
+            .filter(|&i| pred(i))
+            .min_by(|&a, &b| (acc[a] - half).abs().total_cmp(&(acc[b] - half).abs()))
+    };
+    // An on-vertex point within the middle half of the loop, else the nearest point.
+    pick(&|i| line.on_vertex[i] && (acc[i] - half).abs() < half / 2.0)
+        .or_else(|| pick(&|_| true))
+        .unwrap_or(1) as u32
 }
 
 pub(crate) fn prepare(stroke: &Stroke, options: &CutOptions) -> Result<Prepared> {

@@ -14,6 +14,7 @@
 
 use glam::{DMat4, DVec2, DVec3, DVec4};
 
+use super::ids::Lv;
 use crate::error::{Error, Result};
 
 /// A camera: the matrix taking world points to clip space and the viewport in pixels.
@@ -77,10 +78,10 @@ impl SeenList {
 
     /// Vertex `v` as seen, `None` behind the eye.
     #[inline]
-    pub fn get(&self, v: u32) -> Option<Seen> {
-        let d = self.depth[v as usize];
+    pub fn get(&self, v: Lv) -> Option<Seen> {
+        let d = self.depth[v.idx()];
         Self::in_front(d).then(|| Seen {
-            screen: self.screen[v as usize],
+            screen: self.screen[v.idx()],
             w: d.y,
             z: d.x,
         })
@@ -88,8 +89,8 @@ impl SeenList {
 
     /// Whether vertex `v` is in front of the eye.
     #[inline]
-    pub fn front(&self, v: u32) -> bool {
-        Self::in_front(self.depth[v as usize])
+    pub fn front(&self, v: Lv) -> bool {
+        Self::in_front(self.depth[v.idx()])
     }
 
     /// Whether a `depth` entry, (z, w), is of a vertex in front of the eye (for passes that
@@ -101,7 +102,7 @@ impl SeenList {
 
     /// Whether a face's corners `t` are all in front of the eye (one branch, at the caller).
     #[inline]
-    pub fn front3(&self, t: [u32; 3]) -> bool {
+    pub fn front3(&self, t: [Lv; 3]) -> bool {
         self.front(t[0]) & self.front(t[1]) & self.front(t[2])
     }
 }

@@ -382,16 +382,6 @@ impl CellGrid {
         }
     }
 
-    /// The distance from `s` to the nearest of `segments` its cell lists (infinite when it
-    /// lists none): exact whenever that is within the margin.
-    #[inline]
-    pub fn distance_to(&self, s: DVec2, segments: &[(DVec2, DVec2)]) -> f64 {
-        self.segments_near(s)
-            .iter()
-            .map(|&k| point_segment_distance(s, segments[k as usize].0, segments[k as usize].1))
-            .fold(f64::INFINITY, f64::min)
-    }
-
     /// Segments near cell (cx, cy).
     #[inline]
     pub fn segments_at(&self, cx: i32, cy: i32) -> &[u32] {
@@ -413,6 +403,34 @@ impl CellGrid {
             .map(|cx| runs.get(cx, cy))
             .find(|r| !r.is_empty());
         &self.lists.list[first.start..last.expect("a listed cell").end]
+    }
+
+    /// The segments listed in the cells of the box `lo..=hi` (every segment within the
+    /// margin of a point of the box), each once: the wide list of its middle cell when the
+    /// box is at most three cells across, else gathered into `scratch` in cell order.
+    #[inline]
+    pub fn segments_in_box<'a>(
+        &'a self,
+        lo: DVec2,
+        hi: DVec2,
+        scratch: &'a mut Vec<u32>,
+    ) -> &'a [u32] {
+        let Some(range) = self.range(lo, hi) else {
+            return &[];
+        };
+        if let Some(list) = self.segments_around(range) {
+            return list;
+        }
+        let (x0, y0, x1, y1) = range;
+        scratch.clear();
+        for cy in y0..y1 + 1 {
+            for &k in self.segments_along(cy, x0, x1) {
+                if !scratch.contains(&k) {
+                    scratch.push(k);
+                }
+            }
+        }
+        scratch
     }
 }
 
@@ -544,17 +562,6 @@ pub(crate) fn within(p: DVec2, a: DVec2, b: DVec2, r: f64) -> bool {
     }
     let c = ab.perp_dot(ap);
     c * c <= r2 * len2
-}
-
-pub(crate) fn point_segment_distance(p: DVec2, a: DVec2, b: DVec2) -> f64 {
-    let ab = b - a;
-    let len2 = ab.length_squared();
-    let t = if len2 > 0.0 {
-        ((p - a).dot(ab) / len2).clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    (a + ab * t - p).length()
 }
 
 /// Pass 1: every vertex's code.
@@ -730,89 +737,6 @@ impl Kept {
             self.corners.reserve(CHUNK / 16);
         }
     }
-}
-
-/// Whether a segment and a triangle on screen meet (touching counts), f64.
-pub(crate) fn segment_meets_triangle(a: DVec2, b: DVec2, t: [DVec2; 3]) -> bool {
-    let cross = |o: DVec2, p: DVec2, q: DVec2| (p - o).perp_dot(q - o);
-    let inside = |p: DVec2| {
-        let o = [
-            cross(t[0], t[1], p),
-            cross(t[1], t[2], p),
-            cross(t[2], t[0], p),
-        ];
-        !(o.iter().any(|&v| v > 0.0) && o.iter().any(|&v| v < 0.0))
-    };
-    if inside(a) || inside(b) {
-        return true;
-    }
-    (0..3).any(|i| {
-        let (p, q) = (t[i], t[(i + 1) % 3]);
-        let (o1, o2) = (cross(a, b, p), cross(a, b, q));
-        let (o3, o4) = (cross(p, q, a), cross(p, q, b));
-        o1 * o2 <= 0.0 && o3 * o4 <= 0.0 && (o1 != 0.0 || o2 != 0.0)
-    })
-}
-
-/// `None` when segment `ab` and triangle `t` meet ([`segment_meets_triangle`]), else the
-/// square of the gap between them (plain f64: callers compare it with a slack). A shortcut
-/// for the common case of a triangle that lies across the segment's slab (every corner
-/// projects strictly inside the segment) and clearly off its line or clearly across it:
-/// off, the nearest points are a corner and its foot on the segment; across, the line's
-/// chord through the triangle is inside the slab, so the segment meets it. A corner within
-/// a billionth of the squared length of the line takes the general tests (rounding would
-/// decide it). One gap, not a yes/no at a radius: the region keeps faces by it at two radii
-/// (the first guess's margin, then the snap distance) from one walk over the grid.
-pub(crate) fn segment_triangle_gap2(a: DVec2, b: DVec2, t: [DVec2; 3]) -> Option<f64> {
-    let ab = b - a;
-    let len2 = ab.length_squared();
-    let mut slab = true;
-    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
-    for p in t {
-        let ap = p - a;
-        let u = ap.dot(ab);
-        slab &= (u > 0.0) & (u < len2);
-        let c = ab.perp_dot(ap);
-        lo = lo.min(c);
-        hi = hi.max(c);
-    }
-    let tiny = 1e-9 * len2;
-    // `&` and `|`, not `&&` and `||`: the comparisons are cheap, and short-circuiting made a
-    // branch of each that went either way from face to face (the region's near test −6% on
-    // one thread).
-    if slab & ((lo > tiny) | (hi < -tiny)) {
-        let c = if lo > 0.0 { lo } else { hi };
-        return Some(c * c / len2);
-    }
-    if (slab & (lo < -tiny) & (hi > tiny)) || segment_meets_triangle(a, b, t) {
-        return None;
-    }
-    // Apart: the nearest pair has an end point of one on the other.
-    let mut gap2 = f64::INFINITY;
-    for i in 0..3 {
-        let (p, q) = (t[i], t[(i + 1) % 3]);
-        gap2 = gap2
-            .min(distance2(a, p, q))
-            .min(distance2(b, p, q))
-            .min(distance2(p, a, b));
-    }
-    Some(gap2)
-}
-
-/// The squared distance from `p` to segment `ab` (plain f64).
-#[inline]
-fn distance2(p: DVec2, a: DVec2, b: DVec2) -> f64 {
-    let (ab, ap) = (b - a, p - a);
-    let t = ap.dot(ab);
-    if t <= 0.0 {
-        return ap.length_squared();
-    }
-    let len2 = ab.length_squared();
-    if t >= len2 {
-        return (p - b).length_squared();
-    }
-    let c = ab.perp_dot(ap);
-    c * c / len2
 }
 
 /// A cheap guess of the mean screen edge length, to size the snap margin before the real L

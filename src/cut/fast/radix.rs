@@ -8,6 +8,8 @@
 //! element; four independent chains run about three times as fast). Quarter q's elements of
 //! a digit go after quarter q − 1's, so the sort stays stable.
 
+use std::mem::MaybeUninit;
+
 const MAX_BITS: u32 = 11;
 const WAYS: usize = 4;
 
@@ -91,6 +93,58 @@ pub(crate) fn sort_by_key(pairs: &mut Vec<(u32, u32)>) {
         }
         std::mem::swap(pairs, &mut tmp);
     }
+}
+
+/// Sorts `items` stably by `(index(item), key(item))`: a stable radix sort by index, then
+/// each index's few items by key (with their positions, so ties keep their order), the
+/// items moved once at the end; above a few hundred items the runs are sorted in two halves
+/// on rayon.
+pub(crate) fn sort_by_index_then_key<T, K>(
+    items: &mut Vec<T>,
+    index: impl Fn(&T) -> u32 + Sync,
+    key: impl Fn(&T) -> K + Sync,
+) where
+    T: Copy + Send + Sync,
+    K: Ord + Copy,
+{
+    let mut by_index: Vec<(u32, u32)> = items
+        .iter()
+        .enumerate()
+        .map(|(i, x)| (index(x), i as u32))
+        .collect();
+    sort_by_key(&mut by_index);
+    // Two halves split between two indices.
+    let mut mid = by_index.len() / 2;
+    while mid > 0 && mid < by_index.len() && by_index[mid].0 == by_index[mid - 1].0 {
+        mid += 1;
+    }
+    let mut sorted: Vec<T> = Vec::with_capacity(items.len());
+    let (lo, hi) = sorted.spare_capacity_mut()[..items.len()].split_at_mut(mid);
+    let from = &items[..];
+    let runs = |by_index: &[(u32, u32)], out: &mut dyn Iterator<Item = &mut MaybeUninit<T>>| {
+        let mut keys: Vec<(K, u32)> = Vec::new();
+        for run in by_index.chunk_by(|a, b| a.0 == b.0) {
+            keys.clear();
+            keys.extend(run.iter().map(|&(_, i)| (key(&from[i as usize]), i)));
+            small_sort(&mut keys);
+            for k in &keys {
+                out.next()
+                    .expect("a slot per entry")
+                    .write(from[k.1 as usize]);
+            }
+        }
+    };
+    if by_index.len() < 512 {
+        runs(&by_index, &mut lo.iter_mut().chain(hi.iter_mut()));
+    } else {
+        rayon::join(
+            || runs(&by_index[..mid], &mut lo.iter_mut()),
+            || runs(&by_index[mid..], &mut hi.iter_mut()),
+        );
+    }
+    // SAFETY: `runs` wrote one item per entry of `by_index`, `items.len()` in all.
+    unsafe { sorted.set_len(items.len()) };
+    *items = sorted;
 }
 
 /// `(key, value)` pairs grouped by key with a counting sort, for keys below `keys`: CSR
@@ -180,6 +234,28 @@ pub(crate) mod tests {
             assert_eq!(start[k as usize + 1] - start[k as usize], want, "key {k}");
         }
         assert_eq!(start[13], 500);
+    }
+
+    /// The order of a stable comparison sort by index then key, below and above the size at
+    /// which the runs are sorted in two halves, with ties in both.
+    #[test]
+    fn sort_by_index_then_key_is_a_stable_sort() {
+        let mut rnd = xorshift(0x1234_5678_9abc_def1);
+        for n in [0usize, 1, 5, 300, 511, 512, 2000] {
+            // (index, key, position)
+            let items: Vec<(u32, (u64, u8), u32)> = (0..n)
+                .map(|i| {
+                    let r = rnd();
+                    let index = (r >> 40) as u32 % (n as u32 / 4 + 1);
+                    (index, ((r >> 8) % 5, (r >> 16) as u8 % 3), i as u32)
+                })
+                .collect();
+            let mut want = items.clone();
+            want.sort_by_key(|x| (x.0, x.1));
+            let mut got = items;
+            super::sort_by_index_then_key(&mut got, |x| x.0, |x| x.1);
+            assert_eq!(got, want, "n = {n}");
+        }
     }
 
     /// Stable and sorted, as `sort_by_key` of std: small and large inputs, nearly sorted,

@@ -1,45 +1,10 @@
-//! Parallel jobs whose results one thread consumes in order, each as soon as it is ready: the
-//! consuming thread works through the serial part while the pool runs the later jobs (rayon
-//! has no ordered streaming; `par_iter().collect()` waits for every job first). And a join
-//! whose calling thread never falls asleep while it waits ([`join`]).
+//! Scheduling helpers: the cut run on a worker of the rayon pool with another kept awake
+//! ([`on_pool`]), and a join whose calling thread never falls asleep while it waits
+//! ([`join`]).
 
 use std::panic::AssertUnwindSafe;
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::{Mutex, OnceLock};
-
-/// Runs `job(0)`, …, `job(n − 1)` on the current rayon pool and calls `consume(i, &result)`
-/// on this thread in order of `i`, each as soon as its result is there.
-/// Job 0 is spawned last, after jobs 1 to n − 1 in order: this thread takes the newest job
-/// of its queue, so job 0 first and, while it waits, jobs from the end, and idle workers
-/// steal the oldest, so jobs 1, 2, … in the order they are consumed. (Spawned last to first,
-/// a worker took the last jobs first and this thread the second: the consumption waited for
-/// it, normalization −14% on spot, through all, per-call A/B.) A job that panics is caught,
-/// so this thread stops waiting and panics in turn instead of spinning for ever.
-pub(crate) fn in_order<T: Send + Sync>(
-    n: usize,
-    job: impl Fn(usize) -> T + Sync,
-    mut consume: impl FnMut(usize, &T) + Send,
-) {
-    let slots: Vec<OnceLock<Option<T>>> = (0..n).map(|_| OnceLock::new()).collect();
-    rayon::scope(|s| {
-        let job = &job;
-        for i in (1..n).chain(0..n.min(1)) {
-            let slot = &slots[i];
-            s.spawn(move |_| {
-                let _ = slot.set(std::panic::catch_unwind(AssertUnwindSafe(|| job(i))).ok());
-            });
-        }
-        for (i, slot) in slots.iter().enumerate() {
-            wait_awake(|| slot.get().is_some());
-            consume(
-                i,
-                slot.get()
-                    .and_then(Option::as_ref)
-                    .expect("a parallel job panicked"),
-            );
-        }
-    });
-}
+use std::sync::Mutex;
 
 /// Until `ready()`, runs the pool's pending jobs on this thread, or spins when there are
 /// none (never sleeps: see [`join`]).
@@ -81,34 +46,65 @@ pub(crate) fn join<RA: Send, RB: Send>(
     (ra, rb.expect("a parallel job panicked"))
 }
 
+/// Runs `f` on a worker of the current rayon pool (in place when already on one). The cut's
+/// dozen parallel steps then start from inside the pool: called from outside, each would
+/// hand its work over to the pool and put the caller to sleep until it is done, a round
+/// trip through the scheduler that costs more than a small step itself.
+///
+/// Beside the cut, one more worker is kept awake ([`keep_warm`]) until it is done (or
+/// panics: the flag is set on unwinding too).
+pub(crate) fn on_pool<R: Send>(f: impl FnOnce() -> R + Send) -> R {
+    struct SetOnDrop<'a>(&'a AtomicBool);
+    impl Drop for SetOnDrop<'_> {
+        fn drop(&mut self) {
+            self.0.store(true, Ordering::Release);
+        }
+    }
+    let done = AtomicBool::new(false);
+    rayon::scope(|s| {
+        if rayon::current_num_threads() > 1 {
+            let caller = rayon::current_thread_index();
+            let done = &done;
+            s.spawn(move |_| keep_warm(caller, done));
+        }
+        let _done = SetOnDrop(&done);
+        f()
+    })
+}
+
+/// Runs the pool's pending jobs until `done`. Between its parallel steps the cut works on one
+/// thread for tens of microseconds; an idle rayon worker falls asleep after a few, and waking
+/// it (a futex call by the cut's thread, then a reschedule) cost each following step more
+/// than its share of the work (seventeen context switches a cut). This worker stays awake
+/// and takes each step's jobs at once. Never on the cut's own thread: there it would keep
+/// that thread from returning to the cut. It also gives up after a millisecond without a
+/// job (longer than the cut's longest serial step): a worker that runs it while its own job
+/// waits for another cut on the same pool must not wait for that cut to end.
+fn keep_warm(caller: Option<usize>, done: &AtomicBool) {
+    if rayon::current_thread_index() == caller {
+        return;
+    }
+    let mut last_job = std::time::Instant::now();
+    while !done.load(Ordering::Acquire) {
+        if rayon::yield_now() == Some(rayon::Yield::Executed) {
+            last_job = std::time::Instant::now();
+        } else if last_job.elapsed() > std::time::Duration::from_millis(1) {
+            return;
+        } else {
+            std::hint::spin_loop();
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
-    use super::in_order;
+    use super::on_pool;
 
     fn pool(threads: usize) -> rayon::ThreadPool {
         rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
             .build()
             .unwrap()
-    }
-
-    #[test]
-    fn results_come_in_order_on_any_pool() {
-        for threads in [1, 2, 4] {
-            let pool = pool(threads);
-            let mut seen = Vec::new();
-            pool.install(|| {
-                in_order(
-                    100,
-                    |i| (0..(i * 37) % 1000).map(|x| x as u64).sum::<u64>() + i as u64,
-                    |i, r| seen.push((i, *r)),
-                )
-            });
-            let expect: Vec<u64> = (0..100)
-                .map(|i| (0..(i * 37) % 1000).map(|x| x as u64).sum::<u64>() + i as u64)
-                .collect();
-            assert_eq!(seen, expect.iter().copied().enumerate().collect::<Vec<_>>());
-        }
     }
 
     #[test]
@@ -136,11 +132,22 @@ mod tests {
         assert!(b.is_err());
     }
 
+    /// A panic inside the cut reaches the caller (the C ABI catches it) instead of leaving
+    /// the kept-awake worker spinning and the pool's scope waiting for it forever; the pool
+    /// still works afterwards.
     #[test]
-    fn a_panicking_job_panics_the_caller() {
-        let r = std::panic::catch_unwind(|| {
-            in_order(8, |i| if i == 5 { panic!("job 5") } else { i }, |_, _| {})
-        });
-        assert!(r.is_err());
+    fn a_panic_inside_the_pool_ends_the_kept_worker() {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(2)
+            .build()
+            .unwrap();
+        for _ in 0..20 {
+            let r = pool.install(|| {
+                std::panic::catch_unwind(|| on_pool(|| -> u32 { panic!("inside the cut") }))
+            });
+            assert!(r.is_err());
+            let (a, b) = pool.install(|| on_pool(|| rayon::join(|| 1u64, || 2u64)));
+            assert_eq!(a + b, 3);
+        }
     }
 }

@@ -16,7 +16,6 @@ pub(crate) struct Trace {
     start: Instant,
     last: Instant,
     steps: Vec<(&'static str, f64)>,
-    counts: Vec<(&'static str, usize)>,
 }
 
 impl Trace {
@@ -27,15 +26,6 @@ impl Trace {
             start: now,
             last: now,
             steps: Vec::new(),
-            counts: Vec::new(),
-        }
-    }
-
-    /// Records a size (printed after the times).
-    #[inline]
-    pub fn count(&mut self, name: &'static str, n: usize) {
-        if self.on {
-            self.counts.push((name, n));
         }
     }
 
@@ -61,9 +51,6 @@ impl Drop for Trace {
                 " | total {:.3} ms",
                 self.start.elapsed().as_secs_f64() * 1e3
             );
-            for (name, n) in &self.counts {
-                s += &format!(" {name}={n}");
-            }
             eprintln!("{s}");
         }
     }

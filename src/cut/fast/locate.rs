@@ -3,37 +3,61 @@
 //! points the report lists as dropped.
 //!
 //! Visible-only mode has its visibility buckets ([`FaceBuckets`]) and asks them. Through all,
-//! nothing else needs buckets, and building them for a few dozen points cost more than a
-//! cut's whole snapping step: [`PointFaces`] instead goes once over the region's faces and
-//! keeps, for each of those points, the faces whose screen box holds it.
+//! nothing else needs buckets, and building them for a few dozen points would cost more
+//! than the queries: [`PointFaces`] instead goes once over the region's faces and keeps, for
+//! each of those points, the faces whose screen box holds it. The plain path looks at every
+//! face.
 
 use glam::DVec2;
 use smallvec::SmallVec;
 
-use super::geom::map3;
-use super::region::Region;
-use super::visibility::FaceBuckets;
+use super::buckets::FaceBuckets;
+use super::{FaceIndex, Machinery};
+use crate::cut::geom::map3;
+use crate::cut::ids::Lf;
+use crate::cut::region::Region;
 
 /// Candidate faces of a point: a superset of the non-degenerate, projectable faces holding
 /// it strictly inside (callers test each exactly).
 pub(crate) enum Locator<'a> {
     Buckets(&'a FaceBuckets),
     Points(PointFaces),
+    All,
 }
 
-impl Locator<'_> {
+impl<'a> Locator<'a> {
+    /// A locator for `points` on the region as it is now: the visibility buckets when there
+    /// are some (`faces`), else a table for just those points; every face on the plain path.
+    pub fn new(
+        machinery: Machinery,
+        faces: Option<&'a FaceIndex>,
+        region: &Region,
+        points: impl FnOnce() -> Vec<DVec2>,
+    ) -> Self {
+        match (machinery, faces) {
+            (Machinery::Plain, _) => Locator::All,
+            (Machinery::Fast, Some(FaceIndex::Buckets(b))) => Locator::Buckets(b),
+            (Machinery::Fast, _) => Locator::Points(PointFaces::new(region, points())),
+        }
+    }
+
     /// The candidate faces of `s`: nearest first from the buckets, ascending otherwise.
-    pub fn faces_at(&self, region: &Region, s: DVec2) -> SmallVec<[u32; 8]> {
+    pub fn faces_at(&self, region: &Region, s: DVec2) -> SmallVec<[Lf; 8]> {
+        let by_box = || {
+            region
+                .faces()
+                .filter(|&f| box_holds(region, f, s))
+                .collect()
+        };
         match self {
             Locator::Buckets(b) => b.faces_at(s).collect(),
             Locator::Points(p) => match p.faces_at(s) {
                 Some(faces) => faces.iter().copied().collect(),
                 // Not a point it was built for: every face's box (never happens in a cut;
                 // correct anyway).
-                None => (0..region.tri.len() as u32)
-                    .filter(|&lf| box_holds(region, lf, s))
-                    .collect(),
+                None => by_box(),
             },
+            Locator::All => by_box(),
         }
     }
 }
@@ -44,7 +68,7 @@ pub(crate) struct PointFaces {
     pts: Vec<DVec2>,
     /// CSR: point `k`'s faces are `list[start[k]..start[k + 1]]`.
     start: Vec<u32>,
-    list: Vec<u32>,
+    list: Vec<Lf>,
 }
 
 impl PointFaces {
@@ -56,8 +80,7 @@ impl PointFaces {
         let mut pairs: Vec<(u32, u32)> = Vec::with_capacity(8 * pts.len());
         if let (Some(first), Some(last)) = (pts.first(), pts.last()) {
             // Columns over the points' x range, marked where a point is: most faces are
-            // rejected by a bit or two (a binary search per face mispredicted its way to
-            // the cost of the rest of the loop).
+            // rejected by a bit or two.
             let (x0, width) = (first.x, (last.x - first.x).max(1e-300));
             const COLUMNS: usize = 4096;
             let scale = (COLUMNS - 1) as f64 / width;
@@ -69,8 +92,7 @@ impl PointFaces {
                 marked[c / 64] |= 1 << (c % 64);
             }
             // A column range holds a mark when the count of marked columns up to its end
-            // exceeds that up to its start, or its start is marked: no walk over a face's
-            // few columns, which made this table take 1.7 times as long on spot.
+            // exceeds that up to its start, or its start is marked.
             let mut upto = [0u16; COLUMNS];
             let mut n = 0;
             for (c, u) in upto.iter_mut().enumerate() {
@@ -81,15 +103,15 @@ impl PointFaces {
                 (upto[c1] != upto[c0]) | (marked[c0 / 64] >> (c0 % 64) & 1 == 1)
             };
             // Each vertex's screen x once (NaN behind the eye: its faces are skipped).
-            let xs: Vec<f64> = region.seen.screen.iter().map(|s| s.x).collect();
-            for (lf, t) in region.tri.iter().enumerate() {
-                let x = map3(*t, |v| xs[v as usize]);
+            let xs: Vec<f64> = region.seen_list().screen.iter().map(|s| s.x).collect();
+            for (lf, t) in region.all_corners().iter().enumerate() {
+                let x = map3(*t, |v| xs[v.idx()]);
                 let (lo, hi) = (x[0].min(x[1]).min(x[2]), x[0].max(x[1]).max(x[2]));
                 // A corner behind the eye (NaN) drops out of min and max; `face_box` skips it.
                 if !(hi >= x0 && lo <= last.x && any_marked(column(lo), column(hi))) {
                     continue;
                 }
-                let Some((lo, hi)) = face_box(region, lf as u32) else {
+                let Some((lo, hi)) = face_box(region, Lf(lf as u32)) else {
                     continue;
                 };
                 let from = pts.partition_point(|p| p.x < lo.x);
@@ -104,12 +126,13 @@ impl PointFaces {
             }
         }
         // By point, faces ascending within each (pushed in face order).
-        let (start, list) = super::fast::radix::group_by_key(pts.len(), &pairs);
+        let (start, list) = super::radix::group_by_key(pts.len(), &pairs);
+        let list = list.into_iter().map(Lf).collect();
         PointFaces { pts, start, list }
     }
 
     /// The faces of `s` if it is one of the table's points.
-    fn faces_at(&self, s: DVec2) -> Option<&[u32]> {
+    fn faces_at(&self, s: DVec2) -> Option<&[Lf]> {
         let k = self
             .pts
             .binary_search_by(|p| p.x.total_cmp(&s.x).then(p.y.total_cmp(&s.y)))
@@ -120,14 +143,14 @@ impl PointFaces {
 
 /// The screen box of a face that can hold a point strictly inside (projectable, not
 /// degenerate). Minima and maxima are exact: a point inside the face is inside its box.
-fn face_box(region: &Region, lf: u32) -> Option<(DVec2, DVec2)> {
-    if region.sign[lf as usize] == 0.0 || !region.projectable(lf) {
+fn face_box(region: &Region, f: Lf) -> Option<(DVec2, DVec2)> {
+    if region.sign(f) == 0.0 || !region.projectable(f) {
         return None;
     }
-    let [a, b, c] = region.face_screen(lf);
+    let [a, b, c] = region.face_screen(f);
     Some((a.min(b).min(c), a.max(b).max(c)))
 }
 
-fn box_holds(region: &Region, lf: u32, s: DVec2) -> bool {
-    face_box(region, lf).is_some_and(|(lo, hi)| s.cmpge(lo).all() && s.cmple(hi).all())
+fn box_holds(region: &Region, f: Lf, s: DVec2) -> bool {
+    face_box(region, f).is_some_and(|(lo, hi)| s.cmpge(lo).all() && s.cmple(hi).all())
 }

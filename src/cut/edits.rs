@@ -37,7 +37,7 @@ pub struct CutEdits {
     /// `input_triangle_count` in this order.
     pub appended_faces: Vec<([VertexId; 3], FaceId)>,
     /// The split input edges' ends and, CSR by `split_start`, the new vertices on each
-    /// ([`CutEdits::split_edges`]): one array, not one per edge (a spot cut splits 1,600).
+    /// ([`CutEdits::split_edges`]): one array, not one per edge.
     pub(crate) split_ends: Vec<(VertexId, VertexId)>,
     pub(crate) split_start: Vec<u32>,
     pub(crate) split_on: Vec<VertexId>,

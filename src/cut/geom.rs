@@ -4,9 +4,8 @@
 use glam::{DVec2, DVec3};
 use robust::{orient2d, Coord};
 
-/// `t.map(f)` for a face's three corners, always inlined: `[T; 3]::map` with a closure
-/// that can panic (an index, an `expect`) stayed a call that returned its array through
-/// memory, and the loads right after waited on it (snapping −7% to −20% side by side).
+/// `t.map(f)` for a face's three corners, always inlined (`[T; 3]::map` with a closure that
+/// can panic stays a call that returns its array through memory).
 #[inline(always)]
 pub(crate) fn map3<T: Copy, U>(t: [T; 3], mut f: impl FnMut(T) -> U) -> [U; 3] {
     [f(t[0]), f(t[1]), f(t[2])]
@@ -17,9 +16,9 @@ pub(crate) fn map3<T: Copy, U>(t: [T; 3], mut f: impl FnMut(T) -> U) -> [U; 3] {
 ///
 /// The `robust` crate's first step, its floating-point filter (Ozaki et al. 2016, the bound
 /// θ·|l + r| on the error of l − r), is taken here as one comparison of the magnitude: the
-/// crate compares `det` and `−det` in turn, two branches that went either way with the
-/// side of the point (a tenth of the cut's mispredicted branches, under callgrind). Where the
-/// filter passes, this is the value the crate returns; otherwise the crate decides.
+/// crate compares `det` and `−det` in turn, two branches that go either way with the side of
+/// the point. Where the filter passes, this is the value the crate returns; otherwise the
+/// crate decides.
 #[inline]
 pub(crate) fn orient(a: DVec2, b: DVec2, c: DVec2) -> f64 {
     /// θ of the filter, as in `robust` 1.2 (3.33e-16, about 3u for the unit roundoff u).
@@ -145,9 +144,8 @@ pub(crate) fn segment_triangle_gap2(a: DVec2, b: DVec2, t: [DVec2; 3]) -> Option
         hi = hi.max(c);
     }
     let tiny = 1e-9 * len2;
-    // `&` and `|`, not `&&` and `||`: the comparisons are cheap, and short-circuiting made a
-    // branch of each that went either way from face to face (the region's near test −6% on
-    // one thread).
+    // `&` and `|`, not `&&` and `||`: the comparisons are cheap, and short-circuiting would
+    // make a branch of each that goes either way from face to face.
     if slab & ((lo > tiny) | (hi < -tiny)) {
         let c = if lo > 0.0 { lo } else { hi };
         return Some(c * c / len2);

@@ -9,12 +9,27 @@
 //! then do all the work, so no triangle is cut into more than 3 pieces (4 with a stroke end
 //! inside it) and no sliver or near-duplicate vertex appears where a snap was possible.
 //!
-//! [`cut_by_stroke`] runs the paper's steps (§3.4's list) in order: (1) snap model vertices
-//! to stroke vertices, then to stroke segments; (2) split the stroke at sharp corners (the
-//! spec lists this first; the corners are found on the stroke before snapping, which never
-//! changes them, so the order is immaterial); (3) per piece: the end points inside faces,
-//! first and second normalization, the split patterns; then (spec §4 step 8) the cut path and
-//! optional opening.
+//! [`cut_by_stroke`] runs the paper's steps in order (§3.4's closing list, spec §4), one file
+//! each:
+//!
+//! | seed 002 | step | file |
+//! | --- | --- | --- |
+//! | §2.1, spec §4 preprocessing | the stroke checked (finite, not crossing itself), near points dropped, a loop closed | `stroke_checks.rs` |
+//! | spec §2-3 | the view; the region: the faces near the stroke, their adjacency, L | `view.rs`, `region.rs` |
+//! | §3.2, Fig. 4 | model vertices snapped to stroke vertices, then onto stroke segments | `snap.rs` |
+//! | §3.4, Fig. 11 | the stroke split into pieces at sharp corners | `stroke_checks.rs` |
+//! | §3.3, Fig. 5; §3.4, Fig. 12 | first normalization: the array A of vertices and edge crossings, per piece and sheet; piece ends inside faces | `first_normalization.rs` |
+//! | Fig. 2, spec §3 | visible-only mode: each crossing seen or hidden | `visibility.rs` |
+//! | §3.3, Figs. 8-10 | second normalization: no triangle crossed twice | `second_normalization.rs` |
+//! | Figs. 7, 13 | the split patterns: vertex + edge, edge + edge, end point inside | `split_patterns.rs` |
+//! | spec §4 step 8 | the cut path made of edges, and its opening | `path_and_opening.rs` |
+//! | — | the edits, the report, the new mesh | `edits.rs`, `report.rs`, `assemble.rs` |
+//!
+//! The corners are found on the stroke before snapping (it never changes them), so splitting
+//! the stroke after the snap, as the spec orders, changes nothing. What the steps ask of
+//! "what is near what" is answered by the speed machinery in `fast/` (a grid over the stroke,
+//! SIMD whole-mesh passes, face buckets, radix sorts) behind a narrow interface;
+//! [`cut_edits_plain`] runs the same steps on plain scans and gives the same edits.
 //!
 //! Gap-fills (the paper leaves these open; the spec's choices unless noted):
 //! - L is the mean *screen* edge length of the faces the stroke meets (spec §4).
@@ -39,9 +54,9 @@
 //!
 //! Cost: two streaming passes over the mesh (project each vertex into a grid cell about one
 //! edge long; keep each face whose cell box meets the stroke's band), an exact distance test
-//! on those candidates, local work on the faces within the snap margin of the stroke, and
-//! one bulk copy for the output (`candidates` and `assemble` have the details). Written by
-//! hand because no crate implements this paper; predicates are `robust::orient2d`.
+//! on those candidates, local work on the faces within the snap distance of the stroke, and
+//! one bulk copy for the output. Written by hand because no crate implements this paper;
+//! predicates are `robust::orient2d`.
 //!
 //! ```
 //! use katachi::cut::{cut_by_stroke, CutMode, CutOptions, Stroke, View};

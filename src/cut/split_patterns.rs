@@ -31,7 +31,7 @@ const NONE: u32 = u32::MAX;
 pub(crate) type Pieces = SmallVec<[[Lv; 3]; 4]>;
 
 /// Items for a few of `n` keys, stored in order of first use: most of the region's faces
-/// and edges are never touched, and per-key storage cost more to set up than to fill.
+/// and edges are never touched.
 struct Pool<T> {
     slot: Vec<u32>,
     items: Vec<T>,
@@ -41,8 +41,7 @@ impl<T> Pool<T> {
     fn new(n: usize) -> Self {
         Pool {
             slot: vec![NONE; n],
-            // Room for a quarter of the keys: grown from nothing, the items were reallocated
-            // and copied a dozen times.
+            // Room for a quarter of the keys, so the items are rarely reallocated.
             items: Vec::with_capacity(n / 4),
         }
     }

@@ -7,8 +7,7 @@
 //! conversions), so the codes are bit-identical whichever path runs (unit test
 //! `simd_codes_match_the_portable_ones`) and the cut does not depend on the machine.
 //! Written by hand because the compiler vectorizes neither the array-of-structs positions
-//! nor the table lookup: this pass is a quarter of a 1M-triangle cut; AVX2 halves it, and
-//! AVX-512 takes a fifth to a quarter more off (measured side by side on the same cuts).
+//! nor the table lookup (the figures are in `docs/benchmarks.md`).
 //!
 //! [`CellGrid::code`]: super::grid::CellGrid::code
 
@@ -17,9 +16,8 @@ use std::mem::MaybeUninit;
 
 use glam::{DVec3, DVec4};
 
-/// How far ahead (in f64s: 4.5 KiB of positions) the passes ask for their input: the
-/// hardware's stream prefetch alone left them waiting on memory (the AVX-512 pass −10% to
-/// −30% with it, side by side on the same cuts).
+/// How far ahead (in f64s: 4.5 KiB of positions) the passes ask for their input, which the
+/// hardware's stream prefetch does not reach in time.
 const AHEAD: usize = 576;
 
 /// Asks for the `lines` cache lines from `p` on.
@@ -179,7 +177,7 @@ pub(crate) unsafe fn codes8(
         let cy = _mm512_cvttpd_epi32(clamp(_mm512_mul_pd(dot(r1), inv), hy));
         let at = _mm256_add_epi32(_mm256_mullo_epi32(cy, stride), cx);
         // Each cell's flags as the low byte of a four-byte gather (the table's padding keeps
-        // the last cell's read inside it): eight loads and inserts took a sixth of this pass.
+        // the last cell's read inside it).
         let nb = _mm256_and_si256(
             _mm256_i32gather_epi32::<1>(near.as_ptr() as *const i32, at),
             _mm256_set1_epi32(0xff),

@@ -1,18 +1,17 @@
 //! Pass 2 of [`super::grid`] sixteen faces at a time with AVX-512, on CPUs that have
 //! it (detected at run time; the face-by-face loop otherwise): the block test on every block
-//! ([`block_not_away`]: the scalar fold was bound by its instructions, 48 loads and some 150
-//! more a block; the pass is 15% (spot) to 22% (torus) faster side by side), and the faces of
-//! the "near" blocks (with a corner near the stroke's band, about one block in twenty).
+//! ([`block_not_away`]: the scalar fold is bound by its instructions, 48 loads and some 150
+//! more a block), and the faces of the "near" blocks (with a corner near the stroke's band,
+//! about one block in twenty).
 //!
 //! Each lane decides what the face-by-face loop decides from the three corner codes alone:
 //! rejected by the block test or by [`far_for_span`], kept outright (a corner in a marked
 //! cell, or straddling the eye plane), or left for the scan of its cell box, which stays
 //! scalar (a few faces a block). The same integer tests on the same codes, so the same faces
-//! (unit test `simd_near_blocks_match_the_face_loop`). Written by hand: the near blocks were
-//! a third of the face pass on spot (timed by skipping them), their faces taken one by one
-//! through unpredictable branches; this takes 6% (torus) to 8% (spot) off the pass, side by
-//! side on the same cuts. The kept lanes are appended compressed ([`append`]), and the whole
-//! run of blocks is one function ([`scan_blocks`]) so that all of this is inlined.
+//! (unit test `simd_near_blocks_match_the_face_loop`). Written by hand: face by face, the
+//! near blocks' faces go through unpredictable branches. The kept lanes are appended
+//! compressed ([`append`]), and the whole run of blocks is one function ([`scan_blocks`]) so
+//! that all of this is inlined.
 //!
 //! [`far_for_span`]: super::grid
 
@@ -44,7 +43,7 @@ pub(crate) struct Corners {
 
 /// Whether some face of the block is not surely away from the marked cells (the block
 /// test's [`not_away`](super::grid) on all 16 faces at once): a few lane operations on
-/// three gathers where the face-by-face fold took 48 loads and some 150 instructions.
+/// three gathers, where the face-by-face fold takes 48 loads and some 150 instructions.
 ///
 /// # Safety
 /// The CPU has AVX-512 F.
@@ -155,8 +154,8 @@ pub(crate) unsafe fn near_block(c: &Corners) -> Lanes {
 /// first face being `base`): each kept face and its corners appended to `keep`, and to
 /// `clipped` if it straddles the eye plane, in face order. Returns how many faces it did (the
 /// caller does the rest). One function for the whole run, so that the block test and the
-/// classifier are inlined into the loop: called per block, they were calls that passed their
-/// vectors through memory, and the pass took a sixth longer (spot, per-call A/B).
+/// classifier are inlined into the loop (called per block, they pass their vectors through
+/// memory).
 ///
 /// [`candidate_faces`]: super::grid::candidate_faces
 ///

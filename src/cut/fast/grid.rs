@@ -1,5 +1,5 @@
 //! Finding the faces near the stroke in two streaming passes, the only work proportional to
-//! the whole mesh (issue 5: the cut's budget is measured against one projection pass).
+//! the whole mesh.
 //!
 //! A grid over the stroke's bounding box (grown by the snap margin), with cells about one
 //! edge long, marks the cells within the margin of some stroke segment. Pass 1 projects every
@@ -29,8 +29,7 @@ const CHUNK: usize = 1 << 14;
 pub(crate) const BLOCK: usize = 16;
 /// How far (in cells) the "near" marks reach around the band: faces spanning up to this many
 /// cells are rejected from their corners' bits alone. Cells are about one mean edge long and
-/// edges vary, so 1 sent a quarter of a dense mesh's faces to the slow test; 4 sends few
-/// and suits [`not_away`]'s lanes.
+/// edges vary, so the ring is wider than one cell; 4 suits [`not_away`]'s lanes.
 pub(crate) const NEAR_RING: u32 = 4;
 /// Tighter rings for the slow test, which rejects a face spanning at most a ring's width with
 /// a corner outside that ring without looking at the grid ([`far_for_span`]).
@@ -93,8 +92,7 @@ impl CellLists {
 
 /// Where each cell's run lies in a list sorted by cell, for a grid whose few listed cells lie
 /// along the stroke: 8×8 blocks, a table over all blocks naming the listed ones, and for each
-/// listed block its cells' (start, end). A dense table of starts over a fine grid (a megabyte)
-/// took longer to write than all the lists to find.
+/// listed block its cells' (start, end), so a fine grid costs no dense table.
 #[derive(Debug, Clone, Default)]
 struct CellRuns {
     /// Blocks along a row.
@@ -244,8 +242,8 @@ impl CellGrid {
 
     /// The segments any cell of the inclusive range `(x0, y0, x1, y1)` (on the grid) lists,
     /// and a few more, each once, ascending, when the range is at most three cells wide and
-    /// high: the wide list of its middle cell. One read where a walk over the range's rows
-    /// and a check for repeats took twice as long. `None` for a larger range.
+    /// high: the wide list of its middle cell (one read, no walk over the range's rows).
+    /// `None` for a larger range.
     #[inline]
     pub fn segments_around(&self, (x0, y0, x1, y1): (i32, i32, i32, i32)) -> Option<&[u32]> {
         if x1 - x0 > 2 || y1 - y0 > 2 {
@@ -269,8 +267,8 @@ impl CellGrid {
         }
         let inv = 1.0 / w;
         // Clamped to [0, n + 1] (NaN → 0: `f64::max` drops it), so the casts cannot overflow
-        // and the index is inside the (nx + 2) × (ny + 2) table. Unchecked because this is
-        // the whole-mesh pass: saturating casts and the bounds check cost a fifth of it.
+        // and the index is inside the (nx + 2) × (ny + 2) table ([`CellGrid::new`] bounds nx
+        // and ny). Unchecked because this is the whole-mesh pass.
         let clamp = |x: f64, n: i32| x.max(0.0).min(n as f64 + 1.0);
         // SAFETY: as above, finite values in [0, n + 1].
         let (cx, cy) = unsafe {
@@ -437,9 +435,7 @@ impl CellGrid {
 /// (cell, segment) for each cell of grid `(origin, cell, nx, ny)` whose centre is within
 /// `reach` of a segment ([`within`]), looked for in the segment's box grown by `pad`, per
 /// row only among the cells whose x the slab of the row's centres can reach; by cell, each
-/// cell's segments ascending (pushed in segment order, and the radix sort is stable: a
-/// comparison sort cost a fifth of the grid). Serial: the pool's hand-over cost more than the
-/// few thousand tests.
+/// cell's segments ascending (pushed in segment order, and the radix sort is stable).
 fn cell_pairs(
     segments: &[(DVec2, DVec2)],
     (lo, cell, nx, ny): (DVec2, f64, i32, i32),
@@ -568,7 +564,7 @@ pub(crate) fn within(p: DVec2, a: DVec2, b: DVec2, r: f64) -> bool {
 pub(crate) fn vertex_codes(positions: &[DVec3], proj: &Projector, grid: &CellGrid) -> Vec<u32> {
     let rows = proj.cell_rows(grid.origin, grid.inv_cell);
     let mut codes: Vec<u32> = crate::mem::with_capacity(positions.len());
-    // Chunks written in place (a rayon `map` + `collect` per element cost a tenth more).
+    // Chunks written in place.
     codes.spare_capacity_mut()[..positions.len()]
         .par_chunks_mut(CHUNK)
         .zip(positions.par_chunks(CHUNK))
@@ -597,9 +593,7 @@ fn not_away(c: [u32; 3]) -> u32 {
 /// Whether some corner of a face is farther from every marked cell than the face's cell box
 /// is wide, `span` cells (Chebyshev, from the ring flags `all` the corners have): every cell of
 /// the box is within its width of each corner, so the box then holds no marked cell. Each
-/// ring rejects the faces it is wider than with one corner outside it (spot, through all: 20k
-/// faces left for the cell scan with the near and close rings and "no corner in the ring",
-/// 4.5k with the middle ring and "some corner outside it").
+/// ring rejects the faces it is wider than with one corner outside it.
 #[inline(always)]
 fn far_for_span(all: u8, span: u32) -> bool {
     ((all & NEAR == 0) & (span <= NEAR_RING))
@@ -647,13 +641,12 @@ pub(crate) fn candidate_faces(
             let code = |v: VertexId| {
                 debug_assert!(v.idx() < codes.len());
                 // SAFETY: a PolyMesh's corners name its vertices (every constructor checks
-                // it), and there is a code per vertex. Unchecked: an eighth of this pass.
+                // it), and there is a code per vertex.
                 unsafe { *codes.get_unchecked(v.idx()) }
             };
-            // Blocks of faces rejected together: one branch per block, not per face, took
-            // a quarter off this pass; a block with a face near the stroke is gone through
-            // again face by face (few are: faces near each other in the mesh are mostly near
-            // each other in the face order too).
+            // Blocks of faces rejected together, one branch per block; a block with a face
+            // near the stroke is gone through again face by face (few are: faces near each
+            // other in the mesh are mostly near each other in the face order too).
             for (bi, block) in chunk.chunks(3 * BLOCK).enumerate().skip(done / BLOCK) {
                 prefetch_blocks_ahead(block.as_ptr().cast());
                 // Fixed length (unrolled) but for a mesh's last block.
@@ -703,9 +696,8 @@ pub(crate) fn candidate_faces(
     (keep, clipped)
 }
 
-/// Asks for the corners 16 blocks (3 KiB) ahead of a block at `p`: the hardware's stream
-/// prefetch alone left pass 2 waiting on them (torus −4% to −10%, spot equal, side by side
-/// on the same cuts).
+/// Asks for the corners 16 blocks (3 KiB) ahead of a block at `p`, which the hardware's
+/// stream prefetch does not reach in time.
 #[inline(always)]
 pub(crate) fn prefetch_blocks_ahead(p: *const u32) {
     for line in 0..3 {
@@ -742,7 +734,7 @@ impl Kept {
 /// A cheap guess of the mean screen edge length, to size the snap margin before the real L
 /// is known (a wrong guess costs a second pass, never a wrong result): 512 faces, in 32
 /// evenly spaced runs of 16 consecutive ones. Runs, because faces read far apart miss every
-/// cache and page-table level: 512 lone faces took a fifth as long as the whole vertex pass.
+/// cache and page-table level.
 pub(crate) fn sample_edge_length(
     positions: &[DVec3],
     corners: &[VertexId],
@@ -752,8 +744,8 @@ pub(crate) fn sample_edge_length(
     const RUN: usize = 16;
     let nf = corners.len() / 3;
     let step = (nf / RUNS).max(RUN);
-    // Every corner's position asked for first, so the misses overlap (one by one, on a mesh
-    // whose vertex order is not spatial, they were a fifth of the grid step).
+    // Every corner's position asked for first, so the misses overlap (on a mesh whose vertex
+    // order is not spatial, nearly every read misses).
     for start in (0..nf).step_by(step) {
         for &v in &corners[3 * start..3 * (start + RUN).min(nf)] {
             crate::mem::prefetch(positions.as_ptr().wrapping_add(v.idx()));

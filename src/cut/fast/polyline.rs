@@ -202,8 +202,7 @@ const WHOLE: u32 = 3;
 
 /// The polyline segments of prepared segment `(j0, j1)` whose parameter span (from
 /// [`along`]) meets `t0..=t1` widened by 1e-9 against rounding: one search for the first,
-/// a scan for the few after it. A window from [`Strip::window`] holds one or two (the
-/// edge's box, which set the span before, held four on average on spot, through all).
+/// a scan for the few after it. A window from [`Strip::window`] mostly holds one or two.
 #[inline]
 fn in_window(tpar: &[f64], (j0, j1): (u32, u32), (t0, t1): (f64, f64)) -> std::ops::Range<u32> {
     if j1 - j0 <= WHOLE {
@@ -227,7 +226,7 @@ fn in_window(tpar: &[f64], (j0, j1): (u32, u32), (t0, t1): (f64, f64)) -> std::o
 /// [`in_window`] would choose them), and `far` lies on neither's line. Both segments have
 /// that end as an end point, where `orient` is exactly 0, so only a collinear far end would
 /// make them meet the edge (the vertex loop reports the end itself). Cheaper than the window's
-/// search and the tests: on spot, through all, two windows in three are skipped.
+/// search and the tests, and most windows are of such an edge.
 #[inline]
 fn meets_only_at(
     tpar: &[f64],

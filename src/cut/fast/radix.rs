@@ -1,20 +1,18 @@
 //! A stable LSD radix sort of (key, value) pairs by key, for the few-thousand-element sorts
-//! of a cut region (corners by vertex id, faces by depth): several times faster there than
-//! a comparison sort, and `std` has none.
+//! of a cut region (links by occurrence, faces by depth): `std` has none.
 //!
 //! The input is cut in four quarters, each with its own counters, walked side by side: the
-//! keys come nearly sorted (corners of ascending faces), so one set of counters would bump
-//! the same counter over and over, each increment waiting for the last (measured: 7 ns per
-//! element; four independent chains run about three times as fast). Quarter q's elements of
-//! a digit go after quarter q − 1's, so the sort stays stable.
+//! keys come nearly sorted, so one set of counters would bump the same counter over and
+//! over, each increment waiting for the last. Quarter q's elements of a digit go after
+//! quarter q − 1's, so the sort stays stable.
 
 use std::mem::MaybeUninit;
 
 const MAX_BITS: u32 = 11;
 const WAYS: usize = 4;
 
-/// Sorts a few entries in place by insertion (a vertex's edges, an element's faces: the
-/// library sort's call and set-up cost more than the sorting); `sort_unstable` beyond 16.
+/// Sorts a few entries in place by insertion (a vertex's edges, an index's occurrences, where
+/// the library sort's set-up outweighs the sorting); `sort_unstable` beyond 16.
 /// Unstable: for entries whose equal ones are indistinguishable.
 #[inline]
 pub(crate) fn small_sort<T: Ord + Copy>(v: &mut [T]) {
@@ -46,8 +44,8 @@ pub(crate) fn sort_by_key(pairs: &mut Vec<(u32, u32)>) {
         return;
     }
     // Digits as wide as pays: each pass reads and writes every pair and zeroes and sums
-    // WAYS × 2^bits counters, so a region's few thousand face ids (13 bits) sort in two
-    // passes of 7 bits rather than two of 11 (whose counters cost more than the pairs).
+    // WAYS × 2^bits counters, so a few thousand 13-bit keys sort in two passes of 7 bits
+    // rather than two of 11.
     let (passes, bits) = (1..=4u32)
         .map(|p| (p, key_bits.div_ceil(p)))
         .filter(|&(_, b)| b <= MAX_BITS)

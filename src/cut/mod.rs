@@ -127,10 +127,8 @@ pub fn cut_by_stroke(
     view: &View,
     options: &CutOptions,
 ) -> Result<CutOutput> {
-    fast::schedule::on_pool(|| {
-        let (edits, tris) = plan(mesh, stroke, view, options, Machinery::Fast)?;
-        edits.apply_to(mesh, &tris)
-    })
+    let (edits, tris) = plan(mesh, stroke, view, options, Machinery::Fast)?;
+    edits.apply_to(mesh, &tris)
 }
 
 /// [`cut_by_stroke`] without building the new mesh: what the cut changes, as edits to the
@@ -142,7 +140,7 @@ pub fn cut_edits(
     view: &View,
     options: &CutOptions,
 ) -> Result<CutEdits> {
-    fast::schedule::on_pool(|| Ok(plan(mesh, stroke, view, options, Machinery::Fast)?.0))
+    Ok(plan(mesh, stroke, view, options, Machinery::Fast)?.0)
 }
 
 /// [`cut_edits`] on the plain path: no candidate grid, SIMD passes, buckets, windows or radix

@@ -172,8 +172,6 @@ impl CellGrid {
         // border).
         debug_assert!(nx + 2 <= 0xffff && ny + 2 <= 0xfff);
         let inv_cell = 1.0 / cell;
-        // The wide lists on the other thread: beside the vertex pass, they kept a thread from
-        // it, and the pass's end waited for that thread's last share.
         let (wide_reach, geometry) = (wide_reach(margin, cell), (lo, cell, nx, ny));
         let wide = || {
             CellLists::new(
@@ -182,8 +180,7 @@ impl CellGrid {
                 ny,
             )
         };
-        let ((near, lists), wide) =
-            super::schedule::join(|| Self::marks(segments, geometry, margin), wide);
+        let ((near, lists), wide) = rayon::join(|| Self::marks(segments, geometry, margin), wide);
         CellGrid {
             origin: lo,
             cell,

@@ -1,8 +1,8 @@
 //! The cut's speed machinery, behind one narrow interface. The paper's steps ask it what
 //! may be near what — the stroke segments near a point or a box ([`SegmentIndex`]), the
 //! faces of the mesh that may lie near the stroke (its whole-mesh passes), the region's faces
-//! that may hold a point ([`FaceIndex`], [`Locator`]), the polyline segments that may meet
-//! an edge ([`PolylineIndex`]) — and sort and number with it ([`Machinery::sort_pairs`],
+//! that may hold a point ([`FaceIndex`], [`locate::Locator`]), the polyline segments that may
+//! meet an edge ([`polyline::PolylineIndex`]) — and sort and number with it ([`Machinery::sort_pairs`],
 //! [`Machinery::local_ids`], [`Machinery::edge_table`]). Every answer is a superset that the
 //! steps filter with their exact tests, so how tight it is changes no result.
 //!
@@ -11,7 +11,12 @@
 //! (`buckets`), windows along the polyline (`polyline`) and radix sorts (`radix`).
 //! [`Machinery::Plain`] answers "everything" and sorts with the standard library: the same
 //! edits bit for bit, in O(faces × stroke) time, so the tests run both and compare
-//! ([`super::cut_edits_plain`]).
+//! ([`super::cut_edits_plain`]). Step timings for tuning are in `trace` (`KATACHI_CUT_TRACE`).
+//!
+//! The whole-mesh passes and a few per-vertex and per-face maps run on rayon in fixed chunks
+//! (the result does not depend on the thread count). The cut keeps no scheduling tricks (a
+//! worker kept awake, joins that spin instead of sleeping): measured in Blender, at the
+//! user's end, they did not pay (`docs/benchmarks.md`).
 //!
 //! Written here because no crate indexes a polyline and a triangle soup in screen space the
 //! way the cut asks (a BVH from `parry3d` or `rstar` per cut would cost more than the cut).
@@ -26,7 +31,6 @@ pub(crate) mod grid;
 pub(crate) mod locate;
 pub(crate) mod polyline;
 pub(crate) mod radix;
-pub(crate) mod schedule;
 pub(crate) mod trace;
 
 use glam::DVec2;

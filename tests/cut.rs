@@ -4,7 +4,9 @@
 use std::collections::{BTreeMap, BTreeSet};
 
 use glam::{DMat4, DVec2, DVec3};
-use katachi::cut::{cut_by_stroke, CutMode, CutOptions, CutOutput, Stroke, View};
+use katachi::cut::{
+    cut_by_stroke, cut_edits, cut_edits_plain, CutMode, CutOptions, CutOutput, Stroke, View,
+};
 use katachi::mesh::{inspect, shapes};
 use katachi::{Error, FaceId, PolyMesh, VertexId};
 use proptest::prelude::*;
@@ -1285,7 +1287,25 @@ fn stroke_strategy() -> impl Strategy<Value = Vec<(f64, f64)>> {
         })
 }
 
+/// The plain path gives the fast path's edits (or error) bit for bit.
+fn check_plain_path(mesh: &PolyMesh, pts: &[(f64, f64)], view: &View, o: &CutOptions) {
+    let text = |r: katachi::Result<katachi::cut::CutEdits>| match r {
+        Ok(e) => format!("{e:?}"),
+        Err(e) => format!("error {e}"),
+    };
+    let s = stroke(pts);
+    let (fast, plain) = (
+        text(cut_edits(mesh, &s, view, o)),
+        text(cut_edits_plain(mesh, &s, view, o)),
+    );
+    assert!(
+        fast == plain,
+        "the plain path differs:\nfast  {fast}\nplain {plain}"
+    );
+}
+
 fn run(mesh: &PolyMesh, pts: &[(f64, f64)], view: &View, o: &CutOptions) -> Option<CutOutput> {
+    check_plain_path(mesh, pts, view, o);
     match cut_by_stroke(mesh, &stroke(pts), view, o) {
         Ok(out) => Some(out),
         Err(Error::StrokeSelfIntersects { .. }) => None,
@@ -1473,6 +1493,7 @@ proptest! {
             .collect();
         pts.push(pts[0]);
         let mut o = through_all();
+        check_plain_path(&mesh, &pts, &view, &o);
         let plain = cut(&mesh, &pts, &view, &o);
         check_valid(&mesh, &plain);
         check_paths_are_edges(&plain);
@@ -1510,6 +1531,7 @@ proptest! {
             (s.x, s.y)
         }).collect();
         let o = CutOptions::with_mode(if visible { CutMode::VisibleOnly } else { CutMode::ThroughAll });
+        check_plain_path(&mesh, &px, &view, &o);
         let out = match cut_by_stroke(&mesh, &stroke(&px), &view, &o) {
             Ok(out) => out,
             Err(Error::StrokeSelfIntersects { .. } | Error::StrokeTooShort { .. }) => return Ok(()),

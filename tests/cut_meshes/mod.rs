@@ -214,3 +214,128 @@ pub fn project_all(mesh: &PolyMesh, view: &View, out: &mut Vec<DVec2>) {
         })
         .collect_into_vec(out);
 }
+
+/// A random cut: a mesh (named by `key`), a view, a stroke and options ([`RandomCuts`]).
+pub struct RandomCut {
+    pub key: String,
+    pub mesh: PolyMesh,
+    pub view: View,
+    pub stroke: Stroke,
+    pub options: katachi::cut::CutOptions,
+}
+
+/// A fixed sequence of random cuts (`examples/cut_digest.rs` fingerprints them, the tests
+/// compare the plain and fast paths on them): triangulated grids (flat and perturbed),
+/// icospheres and tori, seen from random directions in orthographic and perspective views,
+/// cut by random strokes (smooth or with sharp turns, some closed) in both modes, opened or
+/// not, with random snap ratios.
+pub struct RandomCuts {
+    state: u64,
+    meshes: BTreeMap<String, PolyMesh>,
+}
+
+impl Default for RandomCuts {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl RandomCuts {
+    pub fn new() -> Self {
+        RandomCuts {
+            state: 0x1234_5678_9abc_def0,
+            meshes: BTreeMap::new(),
+        }
+    }
+
+    fn rnd(&mut self) -> f64 {
+        let s = &mut self.state;
+        *s ^= *s << 13;
+        *s ^= *s >> 7;
+        *s ^= *s << 17;
+        (*s >> 11) as f64 / (1u64 << 53) as f64
+    }
+
+    /// The next cut of the sequence.
+    pub fn next_cut(&mut self) -> RandomCut {
+        use katachi::cut::{CutMode, CutOptions};
+        use katachi::mesh::shapes;
+        let tri_torus = |n: u32| triangulate_quads(&shapes::torus(n, n, 2.0, 0.7).unwrap());
+        let kind = (self.rnd() * 6.0) as u32;
+        let key = match kind {
+            0 => format!("grid {}", 4 + (self.rnd() * 30.0) as u32),
+            1 => format!(
+                "pgrid {} {} {}",
+                4 + (self.rnd() * 30.0) as u32,
+                [1e-15, 0.1, 0.3][(self.rnd() * 3.0) as usize],
+                (self.rnd() * 1000.0) as u64
+            ),
+            2 => format!("sphere {}", 1 + (self.rnd() * 4.0) as u32),
+            3 => format!("torus {}", [8u32, 20, 40, 71][(self.rnd() * 4.0) as usize]),
+            _ => format!("sphere {}", 2 + (self.rnd() * 3.0) as u32),
+        };
+        let mesh = self
+            .meshes
+            .entry(key.clone())
+            .or_insert_with(|| {
+                let w: Vec<&str> = key.split(' ').collect();
+                match w[0] {
+                    "grid" => tri_grid(w[1].parse().unwrap(), w[1].parse().unwrap()),
+                    "pgrid" => perturbed_grid(
+                        w[1].parse().unwrap(),
+                        w[1].parse().unwrap(),
+                        w[2].parse().unwrap(),
+                        w[3].parse().unwrap(),
+                    ),
+                    "sphere" => icosphere(w[1].parse().unwrap()),
+                    _ => tri_torus(w[1].parse().unwrap()),
+                }
+            })
+            .clone();
+        let view = view_for(
+            &mesh,
+            self.rnd() < 0.5,
+            self.rnd() * std::f64::consts::TAU,
+            self.rnd() * 1.2,
+            1.5 + self.rnd() * 2.5,
+        );
+        let mut p = vec![DVec2::new(
+            250.0 + self.rnd() * 300.0,
+            180.0 + self.rnd() * 240.0,
+        )];
+        let mut a = self.rnd() * std::f64::consts::TAU;
+        let steps = 1 + (self.rnd() * 40.0) as usize;
+        let step = 3.0 + self.rnd() * 60.0;
+        let sharp = self.rnd() < 0.3;
+        for _ in 0..steps {
+            a += if sharp && self.rnd() < 0.2 {
+                (self.rnd() - 0.5) * 4.0
+            } else {
+                self.rnd() - 0.5
+            };
+            let q = *p.last().unwrap();
+            p.push(q + DVec2::new(a.cos(), a.sin()) * step);
+        }
+        if self.rnd() < 0.15 {
+            let f = p[0];
+            p.push(f);
+        }
+        let mut o = CutOptions::with_mode(if self.rnd() < 0.5 {
+            CutMode::VisibleOnly
+        } else {
+            CutMode::ThroughAll
+        });
+        o.open = self.rnd() < 0.3;
+        if self.rnd() < 0.2 {
+            o.snap_vertex_ratio = self.rnd() * 0.5;
+            o.snap_segment_ratio = self.rnd() * 0.5;
+        }
+        RandomCut {
+            key,
+            mesh,
+            view,
+            stroke: Stroke::new(p),
+            options: o,
+        }
+    }
+}

@@ -9,15 +9,20 @@
 //! ```
 //!
 //! `--plain` runs the plain path (`cut_edits_plain`: no grid, SIMD, buckets or radix sorts)
-//! instead, which must print the same lines. `--detail` adds a second hash per case, of the edits with the report's mean edge lengths
-//! left out (a change in how L is rounded then shows apart from a change in the edits), and
-//! `--case K` prints case K's edits whole.
+//! instead, which must print the same lines. `--detail` adds a second hash per case, of the
+//! edits with the report's mean edge lengths left out (a change in how L is rounded then
+//! shows apart from a change in the edits), and `--case K` prints case K's edits whole.
+//! `--check` prints instead the cases whose result breaks an invariant: a face of zero area,
+//! two new vertices at one place (not an opening copy), a path that crosses a face twice, or a
+//! non-manifold result.
 //!
 //! Cases: [`cut_meshes::RandomCuts`] (random meshes, views, strokes and options).
 
 use std::hash::{Hash, Hasher};
 
-use katachi::cut::{cut_edits, cut_edits_plain};
+use katachi::cut::{cut_edits, cut_edits_plain, CutEdits};
+use katachi::mesh::inspect;
+use katachi::PolyMesh;
 
 #[path = "../tests/cut_meshes/mod.rs"]
 mod cut_meshes;
@@ -28,6 +33,8 @@ fn main() {
     let n: u64 = args.first().and_then(|s| s.parse().ok()).unwrap_or(3000);
     let detail = args.iter().any(|a| a == "--detail");
     let plain = args.iter().any(|a| a == "--plain");
+    let check = args.iter().any(|a| a == "--check");
+    let mut broken = 0;
     let only: Option<u64> = args
         .iter()
         .position(|a| a == "--case")
@@ -59,6 +66,16 @@ fn main() {
             println!("{case} {key}\n{text}");
             return;
         }
+        if check {
+            if let Ok(e) = &r {
+                let faults = faults(&mesh, e, o.open);
+                if !faults.is_empty() {
+                    broken += 1;
+                    println!("{case} {key} {o:?}: {}", faults.join(", "));
+                }
+            }
+            continue;
+        }
         let hash = |t: &str| {
             let mut h = std::collections::hash_map::DefaultHasher::new();
             t.hash(&mut h);
@@ -83,7 +100,66 @@ fn main() {
             lines += &format!("{case} {key} {:016x} {summary}\n", hash(&text));
         }
     }
+    if check {
+        println!("{broken} of {n} cases break an invariant");
+        return;
+    }
     print!("{lines}");
+}
+
+/// The invariants `--check` finds broken by the cut `e` of `mesh` (`opened`: with opening,
+/// whose paths are given before it).
+fn faults(mesh: &PolyMesh, e: &CutEdits, opened: bool) -> Vec<String> {
+    let out = e.apply(mesh).expect("edits apply to their mesh");
+    let mut faults = Vec::new();
+    let (before, after) = (inspect(mesh).unwrap(), inspect(&out.mesh).unwrap());
+    if after.zero_area_faces.len() > before.zero_area_faces.len() {
+        faults.push(format!("zero-area faces {:?}", after.zero_area_faces));
+    }
+    if !after.defects.is_empty() {
+        faults.push(format!("defects {:?}", after.defects));
+    }
+    let (nv, p, orig) = (
+        mesh.vertex_count() as usize,
+        out.mesh.positions(),
+        out.vertex_original(),
+    );
+    for a in nv..p.len() {
+        for b in a + 1..p.len() {
+            let copies = orig[b].0 as usize == a || orig[a] == orig[b];
+            if !copies && (p[a] - p[b]).length() <= 1e-9 {
+                faults.push(format!("new vertices {a} and {b} coincide"));
+            }
+        }
+    }
+    // A path crossing a face twice: steps inside one input face that do not follow each other.
+    if !opened {
+        let mut sides: std::collections::HashMap<(u32, u32), Vec<u32>> = Default::default();
+        for (t, f) in out.mesh.faces().zip(&out.face_origin) {
+            let l = out.mesh.face_outer(t);
+            for i in 0..3 {
+                let (a, b) = (l[i].0, l[(i + 1) % 3].0);
+                sides.entry((a.min(b), a.max(b))).or_default().push(f.0);
+            }
+        }
+        for (pi, path) in e.report.paths.iter().enumerate() {
+            let v = &path.vertices;
+            let mut steps: std::collections::BTreeMap<u32, Vec<usize>> = Default::default();
+            for k in 0..v.len().saturating_sub(1) {
+                let (a, b) = (v[k].0, v[k + 1].0);
+                for &f in sides.get(&(a.min(b), a.max(b))).into_iter().flatten() {
+                    steps.entry(f).or_default().push(k);
+                }
+            }
+            if let Some((f, ks)) = steps
+                .iter()
+                .find(|(_, ks)| ks.windows(2).any(|w| w[1] > w[0] + 1))
+            {
+                faults.push(format!("path {pi} crosses face {f} at steps {ks:?}"));
+            }
+        }
+    }
+    faults
 }
 
 /// The edits' text without the report's mean edge lengths (their values up to the next

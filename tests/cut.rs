@@ -1226,6 +1226,83 @@ fn regression_leaving_and_reentering_a_face_through_a_silhouette_crosses_it_once
     }
 }
 
+/// No face of zero area and no two new vertices at one place.
+fn check_no_slivers(input: &PolyMesh, out: &CutOutput) {
+    let r = inspect(&out.mesh).unwrap();
+    assert!(
+        r.zero_area_faces.is_empty(),
+        "zero-area faces {:?}",
+        r.zero_area_faces
+    );
+    let nv = input.vertex_count() as usize;
+    let p = out.mesh.positions();
+    for a in nv..p.len() {
+        for b in a + 1..p.len() {
+            let copy = out.vertex_original()[b].0 as usize == a;
+            assert!(
+                copy || (p[a] - p[b]).length() > 1e-9,
+                "new vertices {a} and {b} coincide at {}",
+                p[a]
+            );
+        }
+    }
+}
+
+#[test]
+fn regression_a_stroke_ending_on_a_silhouette_edge_makes_no_sliver() {
+    // Icospheres seen from aside: strokes from inside the disc to the screen midpoint of each
+    // silhouette edge (an edge between a front and a back face), and to points a rounding
+    // error either side of it. A piece end that close to an edge goes onto it, even onto a
+    // silhouette, where a face of each sheet holds it.
+    for levels in [1, 2] {
+        let m = icosphere(levels);
+        let tris = faces_of(&m);
+        for (ortho, theta, phi) in [(true, 2.0, 1.0), (false, 4.0, 0.9)] {
+            let v = view_for(&m, ortho, theta, phi, 3.0);
+            let at = |i: u32| screen(&v, m.position(VertexId(i)));
+            let front = |t: &[u32; 3]| (at(t[1]) - at(t[0])).perp_dot(at(t[2]) - at(t[0])) < 0.0;
+            let mut sides: BTreeMap<(u32, u32), Vec<bool>> = BTreeMap::new();
+            for t in &tris {
+                for i in 0..3 {
+                    let (a, b) = (t[i], t[(i + 1) % 3]);
+                    sides
+                        .entry((a.min(b), a.max(b)))
+                        .or_default()
+                        .push(front(t));
+                }
+            }
+            let centre = screen(&v, DVec3::ZERO);
+            let mut ends = 0;
+            for (&(a, b), f) in &sides {
+                if f.len() != 2 || f[0] == f[1] {
+                    continue;
+                }
+                for off in [0.0, 1e-12, -1e-12] {
+                    let (sa, sb) = (at(a), at(b));
+                    let end = (sa + sb) * 0.5 + (sb - sa).perp().normalize() * off;
+                    let start = centre + (end - centre) * 0.2;
+                    let mid = start + (end - start) * 0.55 + (end - start).perp() * 0.05;
+                    let pts = [(start.x, start.y), (mid.x, mid.y), (end.x, end.y)];
+                    for mode in [CutMode::VisibleOnly, CutMode::ThroughAll] {
+                        for open in [false, true] {
+                            let mut o = CutOptions::with_mode(mode);
+                            o.open = open;
+                            let out = run(&m, &pts, &v, &o).expect("a simple stroke");
+                            check_valid(&m, &out);
+                            if !open {
+                                check_paths_are_edges(&out);
+                            }
+                            check_no_slivers(&m, &out);
+                        }
+                    }
+                    ends += 1;
+                }
+            }
+            assert!(ends >= 12, "{ends} stroke ends on silhouette edges");
+        }
+    }
+}
+
 // ---------------------------------------------------------------- properties
 
 /// Property-test cases: 96, or `KATACHI_CUT_CASES` for a longer fuzz.

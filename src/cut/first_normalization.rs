@@ -90,7 +90,7 @@ pub(crate) struct Elements<'a> {
 
 /// The arrays A of the snapped stroke's pieces (seed 002 §3.3, Fig. 5; spec §4 steps 4-5),
 /// over the region's cuttable faces (in visible-only mode, the stretches seen:
-/// `visibility`). `segments`: the prepared segments indexed; `end_snap`: how near an edge a
+/// `visibility`). `segments`: the prepared segments indexed; `end_reach`: how near an edge a
 /// piece end inside a face goes onto it.
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn first_normalization<'a>(
@@ -100,7 +100,7 @@ pub(crate) fn first_normalization<'a>(
     pieces: &Pieces,
     segments: &SegmentIndex,
     visibility: Option<&'a Visibility>,
-    end_snap: f64,
+    end_reach: EndReach,
     machinery: Machinery,
 ) -> Elements<'a> {
     let line = &snapped.line;
@@ -122,7 +122,7 @@ pub(crate) fn first_normalization<'a>(
         &pieces.bounds,
         &locate,
         visibility,
-        end_snap,
+        end_reach,
         &mut ends_moved,
         machinery,
     );
@@ -163,7 +163,7 @@ pub(crate) fn first_normalization<'a>(
 /// polyline and the vertices snapped onto it (`snapped`, its segments indexed by
 /// `polyline`, the prepared segments by `segments`); `piece_ends`, the polyline points that
 /// end pieces, found in faces by `locate`; in visible-only mode (`visibility`) each marked
-/// seen or hidden. Piece ends moved onto an edge (within `end_snap` of it) are pushed to
+/// seen or hidden. Piece ends moved onto an edge (within `end_reach` of it) are pushed to
 /// `ends_moved`.
 #[allow(clippy::too_many_arguments)]
 fn find_occurrences(
@@ -175,7 +175,7 @@ fn find_occurrences(
     piece_ends: &[u32],
     locate: &Locator,
     visibility: Option<&Visibility>,
-    end_snap: f64,
+    end_reach: EndReach,
     ends_moved: &mut Vec<u32>,
     machinery: Machinery,
 ) -> Vec<Occ> {
@@ -337,7 +337,7 @@ fn find_occurrences(
                 // An end this close to an edge (a third of the segment snap distance) would
                 // make a sliver of the 1 → 3 split: it goes onto the edge instead, splitting
                 // it (gap-fill: spec §4 step 4's "ties → edge" widened).
-                if let Some((edge, t, foot)) = near_edge(region, f, s, end_snap) {
+                if let Some((edge, t, foot)) = near_edge(region, f, s, end_reach) {
                     let mut o = mk(
                         (j, 0.0),
                         Elem::E {
@@ -404,20 +404,34 @@ fn find_occurrences(
     occ
 }
 
+/// How near an edge a piece end inside a face goes onto it (screen pixels).
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct EndReach {
+    /// An edge between two faces of one sheet, or on the boundary: a third of the segment snap
+    /// distance (an end nearer would make a sliver of the 1 → 3 split).
+    pub edge: f64,
+    /// A silhouette edge (its faces turn opposite ways on screen): a rounding error. A
+    /// fold's faces hold the points beside it on both sheets, and the vertices there often
+    /// cannot snap (the fold-over guard), so only an end that lies on the edge up to
+    /// rounding goes onto it, one vertex for both sheets.
+    pub silhouette: f64,
+}
+
 /// The edge of face `f` nearest to `s` if closer than `reach` with its foot strictly inside
 /// the edge: (edge, screen parameter from its first end, foot).
-fn near_edge(region: &Region, f: Lf, s: DVec2, reach: f64) -> Option<(Le, f64, DVec2)> {
+fn near_edge(region: &Region, f: Lf, s: DVec2, reach: EndReach) -> Option<(Le, f64, DVec2)> {
     let mut best: Option<(f64, Le, f64, DVec2)> = None;
     let sign = region.sign(f);
     for e in region.face_edges(f) {
-        // Not onto an edge into another sheet (a silhouette): that would split its face.
         let other = region
             .edge_faces(e)
             .into_iter()
             .find(|&g| g != f && g.is_some());
-        if other.is_some_and(|g| region.sign(g) != sign) {
-            continue;
-        }
+        let reach = if other.is_some_and(|g| region.sign(g) != sign) {
+            reach.silhouette
+        } else {
+            reach.edge
+        };
         let [u, w] = region.ends(e);
         let (a, b) = (region.screen(u), region.screen(w));
         let ab = b - a;

@@ -208,7 +208,10 @@ fn plan<'a>(
         &pieces,
         &index,
         visibility.as_ref(),
-        options.snap_segment_ratio * length.px / 3.0,
+        first_normalization::EndReach {
+            edge: options.snap_segment_ratio * length.px / 3.0,
+            silhouette: 1e-9 * length.px.max(1.0),
+        },
         machinery,
     );
     trace.mark("first normalization");

@@ -49,6 +49,7 @@ fn main() {
             view,
             stroke,
             options: o,
+            view_args,
         } = cases.next_cut();
         if only.is_some_and(|k| k != case) {
             continue;
@@ -63,7 +64,10 @@ fn main() {
             Err(e) => format!("error {e}"),
         };
         if only.is_some() {
-            println!("{case} {key}\n{text}");
+            println!(
+                "{case} {key} view {view_args:?} stroke {:?}\n{text}",
+                stroke.points
+            );
             return;
         }
         if check {
@@ -142,13 +146,18 @@ fn faults(mesh: &PolyMesh, e: &CutEdits, opened: bool) -> Vec<String> {
                 sides.entry((a.min(b), a.max(b))).or_default().push(f.0);
             }
         }
+        // (piece, face) → the paths with a step inside the face.
+        let mut by_piece: std::collections::BTreeMap<(u32, u32), Vec<usize>> = Default::default();
         for (pi, path) in e.report.paths.iter().enumerate() {
             let v = &path.vertices;
             let mut steps: std::collections::BTreeMap<u32, Vec<usize>> = Default::default();
             for k in 0..v.len().saturating_sub(1) {
                 let (a, b) = (v[k].0, v[k + 1].0);
-                for &f in sides.get(&(a.min(b), a.max(b))).into_iter().flatten() {
-                    steps.entry(f).or_default().push(k);
+                // Inside a face: both sides of the step's edge lie in it (not along an edge).
+                if let Some(fs) = sides.get(&(a.min(b), a.max(b))) {
+                    if fs.len() == 2 && fs[0] == fs[1] {
+                        steps.entry(fs[0]).or_default().push(k);
+                    }
                 }
             }
             if let Some((f, ks)) = steps
@@ -157,6 +166,12 @@ fn faults(mesh: &PolyMesh, e: &CutEdits, opened: bool) -> Vec<String> {
             {
                 faults.push(format!("path {pi} crosses face {f} at steps {ks:?}"));
             }
+            for &f in steps.keys() {
+                by_piece.entry((path.piece, f)).or_default().push(pi);
+            }
+        }
+        if let Some(((piece, f), paths)) = by_piece.iter().find(|(_, p)| p.len() > 1) {
+            faults.push(format!("piece {piece} crosses face {f} on paths {paths:?}"));
         }
     }
     faults

@@ -1303,6 +1303,73 @@ fn regression_a_stroke_ending_on_a_silhouette_edge_makes_no_sliver() {
     }
 }
 
+/// For each stroke piece, the faces that more than one of its paths crosses (a step inside
+/// the face: both sides of the step's edge lie in it, not along an edge). One piece crosses a
+/// face once (seed 002 §3.3), whichever sheets its paths run on.
+fn faces_crossed_twice_by_a_piece(out: &CutOutput) -> Vec<(u32, FaceId)> {
+    let mut sides: BTreeMap<(u32, u32), Vec<FaceId>> = BTreeMap::new();
+    for (t, &f) in faces_of(&out.mesh).iter().zip(&out.face_origin) {
+        for i in 0..3 {
+            let (a, b) = (t[i], t[(i + 1) % 3]);
+            sides.entry((a.min(b), a.max(b))).or_default().push(f);
+        }
+    }
+    let mut paths_in: BTreeMap<(u32, FaceId), BTreeSet<usize>> = BTreeMap::new();
+    for (pi, p) in out.report.paths.iter().enumerate() {
+        for w in p.vertices.windows(2) {
+            let (a, b) = (w[0].0, w[1].0);
+            if let Some(fs) = sides.get(&(a.min(b), a.max(b))) {
+                if fs.len() == 2 && fs[0] == fs[1] {
+                    paths_in.entry((p.piece, fs[0])).or_default().insert(pi);
+                }
+            }
+        }
+    }
+    paths_in
+        .into_iter()
+        .filter(|(_, paths)| paths.len() > 1)
+        .map(|(k, _)| k)
+        .collect()
+}
+
+#[test]
+fn regression_one_piece_through_all_sheets_crosses_each_face_once() {
+    // Through all sheets of a sphere: the stroke leaves the disc across a silhouette edge,
+    // turns outside it and comes back across the same edge. Each sheet's stretch before the
+    // turn continues in the stretch after it on the same sheet (they share the face by the
+    // edge), not in the other sheet's, which interleaves with it in stroke order.
+    let s = icosphere(2);
+    let v = view_for(
+        &s,
+        true,
+        4.444594391681799,
+        0.8125730413203665,
+        3.0311489807602365,
+    );
+    let pts = [
+        (277.38870238182176, 252.0273125553092),
+        (266.5332920525967, 249.19346131242565),
+        (256.95112275772505, 243.35799407431557),
+        (246.6857937438784, 238.83100097512528),
+        (237.9126211243977, 231.83799815291565),
+        (227.21063157537222, 228.47079367810463),
+        (233.61654471280545, 219.2602061203916),
+        (235.31128694979185, 208.16973746335043),
+        (233.77412429685984, 197.05633216789445),
+        (235.75880446098162, 186.01406379003026),
+        (240.91685706476557, 176.05087456071038),
+        (251.41490759979425, 172.09340298827655),
+        (261.66313053298086, 176.6589887113077),
+    ];
+    let out = run(&s, &pts, &v, &through_all()).expect("a simple stroke");
+    check_valid(&s, &out);
+    check_paths_are_edges(&out);
+    assert_eq!(faces_crossed_twice_by_a_piece(&out), vec![]);
+    for (f, n) in pieces_per_face(&out) {
+        assert!(n <= 4, "face {f} in {n} pieces");
+    }
+}
+
 // ---------------------------------------------------------------- properties
 
 /// Property-test cases: 96, or `KATACHI_CUT_CASES` for a longer fuzz.

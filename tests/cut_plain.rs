@@ -34,6 +34,7 @@ fn the_plain_path_gives_the_fast_paths_edits_on_random_cuts() {
             view,
             stroke,
             options,
+            ..
         } = cuts.next_cut();
         let fast = text(cut_edits(&mesh, &stroke, &view, &options));
         let plain = text(cut_edits_plain(&mesh, &stroke, &view, &options));

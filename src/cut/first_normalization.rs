@@ -135,20 +135,35 @@ pub(crate) fn first_normalization<'a>(
         // Chains of one piece that follow each other along the stroke are normalized as one
         // array (gap-fill): a face the stroke leaves (through a silhouette or the boundary)
         // and re-enters is then still crossed once, as Fig. 9 intends; chains that overlap in
-        // stroke order (other sheets) stay apart.
-        let mut runs: Vec<Vec<u32>> = Vec::new();
+        // stroke order (other sheets) stay apart. Where the chains of several sheets end
+        // before a chain begins, it follows the one it shares a face with: its own sheet's.
+        let mut runs: Vec<(Vec<u32>, Vec<Lf>)> = Vec::new();
         for chain in chains(region, line, &occ, span, &mut last, machinery) {
             for &o in &chain.occ {
                 in_chain[o as usize] = true;
             }
             let first = occ[chain.occ[0] as usize].key;
-            let after = |r: &Vec<u32>| key_cmp(occ[*r.last().unwrap() as usize].key, first).is_lt();
-            match runs.iter_mut().find(|r| after(r)) {
-                Some(r) => r.extend_from_slice(&chain.occ),
-                None => runs.push(chain.occ),
+            let after = |r: &(Vec<u32>, Vec<Lf>)| {
+                key_cmp(occ[*r.0.last().unwrap() as usize].key, first).is_lt()
+            };
+            let before: Vec<usize> = (0..runs.len()).filter(|&r| after(&runs[r])).collect();
+            let pick = before
+                .iter()
+                .copied()
+                .find(|&r| shares_a_face(&runs[r].1, &chain.faces))
+                .or(before.first().copied());
+            match pick {
+                Some(r) => {
+                    let (occ_r, faces_r) = &mut runs[r];
+                    occ_r.extend_from_slice(&chain.occ);
+                    faces_r.extend_from_slice(&chain.faces);
+                    faces_r.sort_unstable();
+                    faces_r.dedup();
+                }
+                None => runs.push((chain.occ, chain.faces)),
             }
         }
-        arrays.extend(runs.into_iter().map(|r| (piece as u32, r)));
+        arrays.extend(runs.into_iter().map(|r| (piece as u32, r.0)));
     }
     Elements {
         occ,
@@ -505,10 +520,25 @@ pub(crate) fn elem_faces(region: &Region, e: Elem, out: &mut Vec<Lf>) {
     }
 }
 
-/// A chain: occurrences in stroke order (one sheet).
+/// A chain: occurrences in stroke order (one sheet), and the faces its visits pass through
+/// (ascending).
 #[derive(Debug, Clone)]
 pub(crate) struct Chain {
     pub occ: Vec<u32>,
+    pub faces: Vec<Lf>,
+}
+
+/// Whether two ascending face lists have a face in common.
+fn shares_a_face(a: &[Lf], b: &[Lf]) -> bool {
+    let (mut i, mut j) = (0, 0);
+    while i < a.len() && j < b.len() {
+        match a[i].cmp(&b[j]) {
+            std::cmp::Ordering::Less => i += 1,
+            std::cmp::Ordering::Greater => j += 1,
+            std::cmp::Ordering::Equal => return true,
+        }
+    }
+    false
 }
 
 /// Whether consecutive visits `x` then `y` of face `f` (occurrence indices) make a visit:
@@ -558,8 +588,10 @@ pub(crate) fn chains(
 ) -> Vec<Chain> {
     let lo = occ.partition_point(|o| key_cmp(o.key, (j0, 0.0)).is_lt());
     let hi = occ.partition_point(|o| key_cmp(o.key, (j1, 0.0)).is_le());
-    // The links of consecutive visits of each face, in order of their second element.
+    // The links of consecutive visits of each face, in order of their second element, and
+    // each link's face.
     let mut links: Vec<(u32, u32)> = Vec::with_capacity(hi - lo);
+    let mut link_faces: Vec<(u32, u32, Lf)> = Vec::with_capacity(hi - lo);
     let mut faces = Vec::new();
     for y in lo as u32..hi as u32 {
         elem_faces(region, occ[y as usize].elem, &mut faces);
@@ -569,9 +601,11 @@ pub(crate) fn chains(
                 last.set.push(f);
             } else if joins(region, line, occ, x, y, f) {
                 links.push((x, y));
+                link_faces.push((x, y, f));
             }
         }
     }
+    link_faces.sort_unstable();
     for f in last.set.drain(..) {
         last.last[f.idx()] = NONE;
     }
@@ -615,7 +649,19 @@ pub(crate) fn chains(
                 break;
             }
         }
-        result.push(Chain { occ: chain });
+        let mut faces: Vec<Lf> = chain
+            .windows(2)
+            .flat_map(|w| {
+                let at = link_faces.partition_point(|l| (l.0, l.1) < (w[0], w[1]));
+                link_faces[at..]
+                    .iter()
+                    .take_while(move |l| (l.0, l.1) == (w[0], w[1]))
+                    .map(|l| l.2)
+            })
+            .collect();
+        faces.sort_unstable();
+        faces.dedup();
+        result.push(Chain { occ: chain, faces });
     }
     result
 }

@@ -220,6 +220,8 @@ pub struct RandomCut {
     pub key: String,
     pub mesh: PolyMesh,
     pub view: View,
+    /// `view_for`'s arguments after the mesh: (ortho, theta, phi, dist).
+    pub view_args: (bool, f64, f64, f64),
     pub stroke: Stroke,
     pub options: katachi::cut::CutOptions,
 }
@@ -292,13 +294,13 @@ impl RandomCuts {
                 }
             })
             .clone();
-        let view = view_for(
-            &mesh,
+        let view_args = (
             self.rnd() < 0.5,
             self.rnd() * std::f64::consts::TAU,
             self.rnd() * 1.2,
             1.5 + self.rnd() * 2.5,
         );
+        let view = view_for(&mesh, view_args.0, view_args.1, view_args.2, view_args.3);
         let mut p = vec![DVec2::new(
             250.0 + self.rnd() * 300.0,
             180.0 + self.rnd() * 240.0,
@@ -334,6 +336,7 @@ impl RandomCuts {
             key,
             mesh,
             view,
+            view_args,
             stroke: Stroke::new(p),
             options: o,
         }

@@ -120,7 +120,9 @@ use visibility::Visibility;
 /// [`crate::Error::InvalidViewport`], [`crate::Error::EmptyMesh`]; then
 /// [`crate::Error::NonManifoldEdge`] or [`crate::Error::InconsistentOrientation`] for an edge
 /// near the stroke (the rest of the mesh is not inspected), and
-/// [`crate::Error::InvalidFaceWithHoles`] for a face with holes that cannot be bridged.
+/// [`crate::Error::InvalidFaceWithHoles`] for a face with holes that cannot be bridged;
+/// [`crate::Error::CoordinateOverflow`] when a vertex the cut places has a coordinate f64
+/// cannot hold (the input's coordinates near its limits).
 pub fn cut_by_stroke(
     mesh: &PolyMesh,
     stroke: &Stroke,
@@ -290,6 +292,11 @@ fn plan<'a>(
     };
     let counts = (mesh.vertex_count(), tris.mesh.face_count());
     let edits = CutEdits::collect(counts, &region, sp, &copies, &gid, report);
+    // No vertex placed where f64 cannot hold it (coordinates near its limits).
+    let placed: Vec<glam::DVec3> = (edits.new_vertices.iter().copied())
+        .chain(edits.report.moved.iter().map(|m| m.to))
+        .collect();
+    crate::mesh::validate::result_positions("the stroke cut", mesh.positions(), &placed)?;
     trace.mark("edits");
     Ok((edits, tris))
 }

@@ -936,3 +936,122 @@ counted_proptest! {
         }
     }
 }
+
+// ---------------------------------------------------------------------------------------
+// Safe writes
+
+/// A fresh, empty folder for one test.
+fn fresh_dir(name: &str) -> std::path::PathBuf {
+    let d = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("io-{name}"));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+fn names_in(dir: &Path) -> Vec<String> {
+    let mut v: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    v.sort();
+    v
+}
+
+/// `io::write` past a file-size limit (RLIMIT_FSIZE, in a child process: this test's own
+/// binary run again) fails with the OS's error and leaves the old file byte for byte, with no
+/// temporary file beside it.
+#[test]
+fn a_failed_write_leaves_the_old_file_intact() {
+    const CHILD: &str = "KATACHI_TEST_WRITE_UNDER_A_LIMIT";
+    if let Some(path) = std::env::var_os(CHILD) {
+        // SAFETY: plain system calls on this process's own limits and signal disposition.
+        unsafe {
+            libc::signal(libc::SIGXFSZ, libc::SIG_IGN);
+            let limit = libc::rlimit {
+                rlim_cur: 64 * 1024,
+                rlim_max: 64 * 1024,
+            };
+            assert_eq!(libc::setrlimit(libc::RLIMIT_FSIZE, &limit), 0);
+        }
+        let big = shapes::torus(200, 100, 2.0, 0.5).unwrap();
+        for ext in ["obj", "ply", "off"] {
+            let target = Path::new(&path).with_extension(ext);
+            match io::write(&target, &big) {
+                Err(e) => println!("refused {ext}: {e}"),
+                Ok(()) => println!("written {ext}"),
+            }
+        }
+        return;
+    }
+    let dir = fresh_dir("fsize");
+    let cube = shapes::cube(1.0).unwrap();
+    let mut before = Vec::new();
+    for ext in ["obj", "ply", "off"] {
+        let p = dir.join(format!("old.{ext}"));
+        io::write(&p, &cube).unwrap();
+        before.push(std::fs::read(&p).unwrap());
+    }
+    let out = std::process::Command::new(std::env::current_exe().unwrap())
+        .args([
+            "a_failed_write_leaves_the_old_file_intact",
+            "--exact",
+            "--nocapture",
+            "--test-threads=1",
+        ])
+        .env(CHILD, dir.join("old.obj"))
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{text}");
+    for (ext, old) in ["obj", "ply", "off"].iter().zip(&before) {
+        assert!(
+            text.contains(&format!("refused {ext}: "))
+                && text.contains(&format!("old.{ext}: File too large")),
+            "{ext}: {text}"
+        );
+        assert_eq!(
+            &std::fs::read(dir.join(format!("old.{ext}"))).unwrap(),
+            old,
+            "old.{ext} changed"
+        );
+    }
+    assert_eq!(names_in(&dir), ["old.obj", "old.off", "old.ply"]);
+}
+
+/// A write replaces the file a symlink points to (the link stays a link), keeps the old
+/// file's permissions, and writes a device in place.
+#[test]
+fn writes_replace_the_real_file_and_keep_its_permissions() {
+    use std::os::unix::fs::PermissionsExt;
+    let dir = fresh_dir("links");
+    let real = dir.join("real.off");
+    io::write(&real, &shapes::cube(1.0).unwrap()).unwrap();
+    std::fs::set_permissions(&real, std::fs::Permissions::from_mode(0o640)).unwrap();
+    let link = dir.join("link.off");
+    std::os::unix::fs::symlink("real.off", &link).unwrap();
+    let prism = shapes::ngon_prism(5, 1.0, 1.0).unwrap();
+    io::write(&link, &prism).unwrap();
+    assert!(std::fs::symlink_metadata(&link)
+        .unwrap()
+        .file_type()
+        .is_symlink());
+    assert_eq!(io::read(&real).unwrap().vertex_count(), 10);
+    let mode = std::fs::metadata(&real).unwrap().permissions().mode() & 0o777;
+    assert_eq!(mode, 0o640);
+    assert_eq!(names_in(&dir), ["link.off", "real.off"]);
+    // A device is written in place: /dev/null takes it, /dev/full refuses it.
+    let null = dir.join("null.off");
+    std::os::unix::fs::symlink("/dev/null", &null).unwrap();
+    io::write(&null, &prism).unwrap();
+    let full = dir.join("full.off");
+    std::os::unix::fs::symlink("/dev/full", &full).unwrap();
+    let e = io::write(&full, &prism).unwrap_err().to_string();
+    assert!(e.contains("No space left on device"), "{e}");
+    assert_eq!(
+        names_in(&dir),
+        ["full.off", "link.off", "null.off", "real.off"]
+    );
+    // write_bytes, for reports and strokes, is the same.
+    io::write_bytes(&real, b"not a mesh").unwrap();
+    assert_eq!(std::fs::read(&real).unwrap(), b"not a mesh");
+}

@@ -213,6 +213,11 @@ pub fn run(args: &[&str]) -> Result<(), String> {
     for line in summary(&text) {
         eprintln!("xtask test: {line}");
     }
+    if skip_c {
+        eprintln!(
+            "xtask test: not run (--no-c): the C/C++ link tests, the installed C library, the MeshLab plugin"
+        );
+    }
     Ok(())
 }
 

@@ -209,7 +209,7 @@ fn run_window_tests(zip: &Path, filter: Option<&str>) -> Result<u64, String> {
 }
 
 /// `<target>/blender-test/<label>/`, emptied (made anew).
-fn fresh_home(label: &str) -> Result<PathBuf, String> {
+pub(crate) fn fresh_home(label: &str) -> Result<PathBuf, String> {
     let home = target_dir().join("blender-test").join(label);
     if home.exists() {
         std::fs::remove_dir_all(&home).map_err(|e| format!("{}: {e}", home.display()))?;
@@ -222,7 +222,12 @@ fn fresh_home(label: &str) -> Result<PathBuf, String> {
 /// `script` (relative to the repository) with `-- --zip ZIP --out OUT`, its user
 /// directories in `home`. Blender shows its splash screen (which would take the events)
 /// unless it opens a file, so the factory startup scene is saved into `home` first.
-fn blender_window(home: &Path, script: &str, zip: &Path, out: &Path) -> Result<Command, String> {
+pub(crate) fn blender_window(
+    home: &Path,
+    script: &str,
+    zip: &Path,
+    out: &Path,
+) -> Result<Command, String> {
     let scene = home.join("scene.blend");
     save_startup_scene(&scene, home)?;
     let mut cmd = Command::new("xvfb-run");
@@ -272,7 +277,7 @@ fn save_startup_scene(scene: &Path, home: &Path) -> Result<(), String> {
 }
 
 /// Points Blender's user directories (config, scripts, extensions) into `home`.
-fn isolate(cmd: &mut Command, home: &Path) {
+pub(crate) fn isolate(cmd: &mut Command, home: &Path) {
     cmd.env("BLENDER_USER_RESOURCES", home.join("user"))
         .env("BLENDER_USER_CONFIG", home.join("user/config"))
         .env("BLENDER_USER_SCRIPTS", home.join("user/scripts"))
@@ -283,7 +288,7 @@ fn isolate(cmd: &mut Command, home: &Path) {
 
 /// The Python interpreter of `<target>/bpy-venv` with bpy 5.0.1, creating the venv and
 /// installing bpy when they are missing.
-fn venv_python() -> Result<PathBuf, String> {
+pub(crate) fn venv_python() -> Result<PathBuf, String> {
     let venv = target_dir().join("bpy-venv");
     let python = venv.join("bin").join("python");
     if python.is_file() && has_bpy(&python) {

@@ -2,12 +2,15 @@
 
 mod addon;
 mod bench;
+mod bench_table;
 mod blender;
+mod blender_bench;
 mod ctest;
 mod deps;
 mod header;
 mod install;
 mod meshlab;
+mod meshlab_bench;
 mod test;
 mod util;
 
@@ -27,7 +30,10 @@ tasks:
   install-test    install into a temporary prefix; build C/C++ programs with pkg-config, run under valgrind
   addon           build the Blender add-on zip (target/addon/katachi-<version>.zip)
   blender-test    test the add-on headless in Blender 3.4 and bpy 5.0 [--only 3.4|5.0] [-k NAME]
+  blender-bench   time the add-on's operators against Blender's own tools and the floor, in
+                  Blender 3.4 and bpy 5.0 [--rounds N] [--only 3.4|5.0] [-k CASE] [--no-modal]
   blender-screenshot  render the add-on's redo panel under Xvfb into docs/images/
+  meshlab-bench   time the MeshLab filters against MeshLab's own (2020.09) [--rounds N]
   meshlab-plugin  build the MeshLab plugin for 2020.09 and 2025.07 [--only 2020.09|2025.07];
                   --test: test it in meshlabserver 2020.09 and pymeshlab 2025.7 [-k NAME]
 ";
@@ -44,8 +50,10 @@ fn main() -> ExitCode {
         Some("install") => install::run(&rest),
         Some("install-test") => install::test(&rest),
         Some("meshlab-plugin") => meshlab::run(&rest),
+        Some("meshlab-bench") => meshlab_bench::run(&rest),
         Some("addon") => addon::run(&rest),
         Some("blender-test") => blender::run(&rest),
+        Some("blender-bench") => blender_bench::run(&rest),
         Some("blender-screenshot") => blender::screenshot(&rest),
         Some("help") | Some("--help") | Some("-h") | None => {
             print!("{HELP}");

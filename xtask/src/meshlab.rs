@@ -46,7 +46,7 @@ const BUILD_TOOLS: [(&str, &str); 5] = [
     ("make", "make"),
     ("g++", "g++"),
 ];
-const TEST_TOOLS: [(&str, &str); 3] = [
+pub(crate) const TEST_TOOLS: [(&str, &str); 3] = [
     ("meshlabserver", "meshlab"),
     ("xvfb-run", "xvfb"),
     ("python3", "python3"),
@@ -65,9 +65,9 @@ const PYMESHLAB_VERSION: &str = "2025.7.post1";
 
 /// Which MeshLab versions to build and test.
 #[derive(Clone, Copy)]
-struct Versions {
-    v2020: bool,
-    v2025: bool,
+pub(crate) struct Versions {
+    pub(crate) v2020: bool,
+    pub(crate) v2025: bool,
 }
 
 pub fn run(args: &[&str]) -> Result<(), String> {
@@ -101,9 +101,9 @@ pub fn run(args: &[&str]) -> Result<(), String> {
 }
 
 /// Where things go: all under `<target>/meshlab` (and the venv beside it).
-struct Dirs {
+pub(crate) struct Dirs {
     base: PathBuf,
-    build2020: PathBuf,
+    pub(crate) build2020: PathBuf,
     build2025: PathBuf,
     prefix: PathBuf,
     release: PathBuf,
@@ -112,7 +112,7 @@ struct Dirs {
 }
 
 /// Builds the plugin for the chosen versions; returns the directories for the tests.
-fn build(versions: Versions) -> Result<Dirs, String> {
+pub(crate) fn build(versions: Versions) -> Result<Dirs, String> {
     check_tools(&BUILD_TOOLS)?;
     let base = target_dir().join("meshlab");
     let src = base.join("src");
@@ -227,7 +227,7 @@ fn cmake_build(build: &Path, source: &Path, lib: &Path, extra: &[String]) -> Res
     Ok(())
 }
 
-fn check_tools(tools: &[(&str, &str)]) -> Result<(), String> {
+pub(crate) fn check_tools(tools: &[(&str, &str)]) -> Result<(), String> {
     let missing: Vec<&(&str, &str)> = tools.iter().filter(|(t, _)| !have(t)).collect();
     if missing.is_empty() {
         return Ok(());
@@ -267,7 +267,7 @@ fn plugin_subdir() -> Result<PathBuf, String> {
 }
 
 /// `/usr/lib/<multiarch>/meshlab`: the installed MeshLab's library directory.
-fn system_meshlab_lib_dir() -> Result<PathBuf, String> {
+pub(crate) fn system_meshlab_lib_dir() -> Result<PathBuf, String> {
     let dir = Path::new("/usr/lib").join(multiarch()?).join("meshlab");
     if dir.join("libmeshlab-common.so").is_file() {
         Ok(dir)

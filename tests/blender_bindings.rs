@@ -191,7 +191,7 @@ fn header_structs(header: &str) -> BTreeMap<String, Vec<(String, Ty)>> {
     out
 }
 
-/// `KATACHI_X = 3,` inside enums, and `#define KATACHI_ABI_VERSION 1`.
+/// `KATACHI_X = 3,` inside enums, and `#define KATACHI_ABI_VERSION 2`.
 fn header_constants(header: &str) -> BTreeMap<String, i64> {
     let mut out = BTreeMap::new();
     for line in header.lines() {
@@ -245,6 +245,7 @@ fn py_type(expr: &str) -> Ty {
         "c_uint32" => ("uint32_t", 0),
         "c_int64" => ("int64_t", 0),
         "c_double" => ("double", 0),
+        "c_float" => ("float", 0),
         "c_size_t" => ("size_t", 0),
         "c_bool" => ("bool", 0),
         "c_char" => ("char", 0),
@@ -610,8 +611,8 @@ fn the_parsers_see_everything() {
         "KatachiProgressFn"
     );
     let constants = python_constants(&py);
-    assert_eq!(constants.get("KATACHI_ABI_VERSION"), Some(&1));
-    assert_eq!(constants.len(), 25, "{constants:?}");
+    assert_eq!(constants.get("KATACHI_ABI_VERSION"), Some(&2));
+    assert_eq!(constants.len(), 27, "{constants:?}");
 }
 
 /// The stroke cut's part of the header is bound in full: every `katachi_cut_*` function,
@@ -811,7 +812,7 @@ fn a_changed_declaration_is_caught() {
             .any(|b| b.contains("katachi_cut_copy_paths: 5 arguments")),
         "{bad:?}"
     );
-    let bad = mutate("KATACHI_ABI_VERSION = 1", "KATACHI_ABI_VERSION = 2");
+    let bad = mutate("KATACHI_ABI_VERSION = 2", "KATACHI_ABI_VERSION = 3");
     assert!(
         bad.iter().any(|b| b.contains("KATACHI_ABI_VERSION")),
         "{bad:?}"

@@ -445,7 +445,7 @@ fn face_varying_data_follows_faces_kept_whole() {
             FaceVarying::LinearAll,
         ] {
             let refined = refiner
-                .refine_face_varying(&plate, &uv, &indices, mode)
+                .refine_face_varying(&uv, &indices, mode)
                 .unwrap_or_else(|e| panic!("{mode:?}, {levels} levels: {e}"));
             assert_eq!(refined.len(), out.corner_count() as usize, "{mode:?}");
             assert!(refined.iter().flatten().all(|x| x.is_finite()), "{mode:?}");
@@ -506,4 +506,203 @@ fn coordinates_near_the_f64_limit_are_a_typed_error_not_infinity() {
         refiner.mesh(positions),
         Err(Error::NonFiniteCoordinate { vertex: 5, .. })
     ));
+}
+
+// ---------------------------------------------------------------- Subdivision (read-out)
+
+use katachi::subdivide::{FaceVarying, Subdivision};
+
+fn subdivision(mesh: &PolyMesh, options: &SubdivideOptions) -> Subdivision {
+    Subdivision::new(mesh, options, &mut |_, _| {}).unwrap()
+}
+
+/// The torus with two rings of creases (one infinitely sharp, one semi-sharp), a grid (with
+/// boundaries), a prism (n-gons) and a plate whose faces with holes stay whole (method [b]).
+fn read_out_meshes() -> Vec<(&'static str, PolyMesh, HoleMethod)> {
+    let mut torus = shapes::torus(12, 8, 2.0, 0.5).unwrap();
+    let ring = |i: u32, s: f64| {
+        (0..8).map(move |j| (VertexId(i * 8 + j), VertexId(i * 8 + (j + 1) % 8), s))
+    };
+    torus
+        .set_edge_sharpnesses(ring(0, 10.0).chain(ring(6, 1.5)))
+        .unwrap();
+    vec![
+        ("creased torus", torus, HoleMethod::Smooth),
+        ("grid", shapes::grid(4, 3).unwrap(), HoleMethod::Smooth),
+        (
+            "prism",
+            shapes::ngon_prism(7, 1.0, 1.0).unwrap(),
+            HoleMethod::Smooth,
+        ),
+        (
+            "plate, method [b]",
+            shapes::plate_with_hole(4.0, 2.0, 1.0).unwrap(),
+            HoleMethod::Sharp,
+        ),
+    ]
+}
+
+/// The read-out's arrays are `catmull_clark`'s mesh; its edges are exactly the faces' sides,
+/// each corner's edge joins it to the next corner, and the sharpness left on them is the
+/// refined mesh's; the edge count is known before the edges are computed.
+#[test]
+fn subdivision_read_out_edges_are_the_faces_sides() {
+    for (name, mesh, holes) in read_out_meshes() {
+        for levels in 1..=3 {
+            let o = with_holes(holes, levels);
+            let s = subdivision(&mesh, &o);
+            let reference = catmull_clark(&mesh, &o).unwrap();
+            let m = &reference.mesh;
+            assert_eq!(s.positions(), m.positions(), "{name} L{levels}");
+            let corners: Vec<u32> = m.corners().iter().map(|v| v.0).collect();
+            assert_eq!(s.corners(), &corners[..], "{name} L{levels}");
+            assert_eq!(s.loop_offsets(), m.loop_offsets(), "{name} L{levels}");
+            assert_eq!(
+                s.face_origin(),
+                &reference.face_origin[..],
+                "{name} L{levels}"
+            );
+            let count = s.edge_count();
+            let e = s.edges();
+            assert_eq!(
+                count as usize,
+                e.verts.len(),
+                "{name} L{levels}: edge count"
+            );
+            let mut sides = std::collections::BTreeSet::new();
+            for w in s.loop_offsets().windows(2) {
+                let (a, b) = (w[0] as usize, w[1] as usize);
+                for c in a..b {
+                    let (u, v) = (
+                        s.corners()[c],
+                        s.corners()[if c + 1 < b { c + 1 } else { a }],
+                    );
+                    let [x, y] = e.verts[e.corner_edges[c] as usize];
+                    assert!(
+                        (x, y) == (u, v) || (x, y) == (v, u),
+                        "{name} L{levels}: corner {c}'s edge joins {x}-{y}, not {u}-{v}"
+                    );
+                    sides.insert((u.min(v), u.max(v)));
+                }
+            }
+            assert_eq!(
+                sides.len(),
+                e.verts.len(),
+                "{name} L{levels}: each side one edge"
+            );
+            let sharp: Vec<((u32, u32), f64)> =
+                m.sharp_edges().map(|(a, b, s)| ((a.0, b.0), s)).collect();
+            let mut ours: Vec<((u32, u32), f64)> = e
+                .verts
+                .iter()
+                .zip(&e.sharpness)
+                .filter(|(_, &s)| s > 0.0)
+                .map(|(&[a, b], &s)| ((a.min(b), a.max(b)), s as f64))
+                .collect();
+            ours.sort_by_key(|x| x.0);
+            assert_eq!(ours, sharp, "{name} L{levels}: sharpness left");
+            assert_eq!(
+                s.sharp_edge_count() as usize,
+                sharp.len(),
+                "{name} L{levels}"
+            );
+        }
+    }
+}
+
+/// Per-corner data welded by vertex and value refines exactly as the same data given as
+/// values and indices, in every mode.
+#[test]
+fn subdivision_corner_data_welds_like_indexed_values() {
+    // A torus whose UV map has seams along one meridian and one parallel.
+    let (m, n) = (8u32, 6u32);
+    let torus = shapes::torus(m, n, 2.0, 0.5).unwrap();
+    let uv: Vec<[f64; 2]> = (0..=m)
+        .flat_map(|i| (0..=n).map(move |j| [i as f64 / m as f64, j as f64 / n as f64]))
+        .collect();
+    let id = |i: u32, j: u32| i * (n + 1) + j;
+    let indices: Vec<u32> = (0..m)
+        .flat_map(|i| {
+            (0..n).flat_map(move |j| [id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)])
+        })
+        .collect();
+    let per_corner: Vec<f64> = indices.iter().flat_map(|&i| uv[i as usize]).collect();
+    for levels in 1..=2 {
+        let s = subdivision(&torus, &SubdivideOptions::with_levels(levels));
+        for mode in [
+            FaceVarying::Smooth,
+            FaceVarying::LinearCornersOnly,
+            FaceVarying::LinearBoundaries,
+            FaceVarying::LinearAll,
+        ] {
+            let expected: Vec<f64> = s
+                .refine_face_varying(&uv, &indices, mode)
+                .unwrap()
+                .into_iter()
+                .flatten()
+                .collect();
+            let welded = s.refine_corner_data(&per_corner, 2, mode).unwrap();
+            assert_eq!(welded, expected, "{mode:?} L{levels}");
+            // Five components (the general path) agree with two.
+            let five: Vec<f64> = per_corner
+                .chunks(2)
+                .flat_map(|c| [c[0], c[1], c[0], c[1], c[0]])
+                .collect();
+            let r5 = s.refine_corner_data(&five, 5, mode).unwrap();
+            for (k, c) in r5.chunks(5).enumerate() {
+                assert_eq!(
+                    [c[0], c[1]],
+                    [expected[2 * k], expected[2 * k + 1]],
+                    "{mode:?}"
+                );
+            }
+        }
+        assert!(matches!(
+            s.refine_corner_data(&per_corner[1..], 2, FaceVarying::Smooth),
+            Err(Error::AttributeLength { .. })
+        ));
+    }
+}
+
+/// With `split_faces_with_holes`, method [b]'s faces with holes come back as the simple
+/// polygons `split_faces_with_holes` makes of them, with their origins, edges and corner
+/// data (smooth UVs equal to the positions' x, y follow the positions exactly).
+#[test]
+fn subdivision_splits_faces_with_holes_for_hosts() {
+    let plate = shapes::plate_with_hole(4.0, 2.0, 1.0).unwrap();
+    let uv: Vec<f64> = plate
+        .corners()
+        .iter()
+        .flat_map(|v| {
+            let p = plate.position(*v);
+            [p.x, p.y]
+        })
+        .collect();
+    for levels in 1..=2 {
+        let mut o = with_holes(HoleMethod::Sharp, levels);
+        let whole = subdivision(&plate, &o);
+        assert!(whole.has_faces_with_holes());
+        o.split_faces_with_holes = true;
+        let s = subdivision(&plate, &o);
+        assert!(!s.has_faces_with_holes());
+        let reference = catmull_clark(&plate, &o).unwrap();
+        assert_eq!(reference.mesh.loop_count(), reference.mesh.face_count());
+        assert_eq!(s.face_count(), reference.mesh.face_count(), "L{levels}");
+        assert_eq!(s.face_origin(), &reference.face_origin[..], "L{levels}");
+        let corners: Vec<u32> = reference.mesh.corners().iter().map(|v| v.0).collect();
+        assert_eq!(s.corners(), &corners[..], "L{levels}");
+        assert_eq!(s.mesh(), reference.mesh, "L{levels}");
+        assert_eq!(s.edge_count() as usize, s.edges().verts.len());
+        let refined = s.refine_corner_data(&uv, 2, FaceVarying::Smooth).unwrap();
+        assert_eq!(refined.len(), 2 * s.corner_count() as usize);
+        for (k, &v) in s.corners().iter().enumerate() {
+            let p = s.positions()[v as usize];
+            let d = (refined[2 * k] - p.x).abs() + (refined[2 * k + 1] - p.y).abs();
+            assert!(
+                d < 1e-12,
+                "L{levels}, corner {k}: {:?} vs {p}",
+                &refined[2 * k..2 * k + 2]
+            );
+        }
+    }
 }

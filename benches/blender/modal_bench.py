@@ -138,7 +138,6 @@ def floor_ticks(round_):
             raise RuntimeError(f"the last operator is {op.bl_idname}")
         obj = bpy.context.view_layer.objects.active
         bench.BENCH_OT_floor.result = bench.Arrays(obj.data, selection=True)
-        fresh()
 
     def call():
         STATE["t0"] = time.perf_counter()
@@ -147,7 +146,7 @@ def floor_ticks(round_):
         if result != {"FINISHED"}:
             raise RuntimeError(f"the floor returned {result}")
 
-    ticks = [call, lambda: done("floor", round_)]
+    ticks = [fresh, call, lambda: done("floor", round_)]
     return ([build_result] if bench.BENCH_OT_floor.result is None else []) + ticks
 
 

@@ -1,27 +1,40 @@
-"""Blender meshes to katachi meshes and back.
+"""Blender meshes to katachi meshes and back, by copying whole arrays.
 
-Nothing geometric happens here: positions, faces, creases, UVs and face data are copied in
-bulk (``foreach_get``/``foreach_set`` into ``array.array`` buffers, which ctypes reads in
-place — Debian's Blender has no numpy) and everything computed comes from the katachi
-library. Blender stores ``float`` (f32); katachi computes in ``double``.
+Nothing geometric happens here, and nothing is done element by element in Python: the
+input's arrays are read with ``foreach_get`` into ``array.array`` buffers (which ctypes
+reads in place; Debian's Blender has no numpy), katachi computes the result and gives it
+as the arrays Blender stores (float positions, polygons by their first corner, the edge
+list with each corner's edge, creases in Blender's scale, materials and smooth flags
+carried to the new faces, UVs per corner), and those are written with ``foreach_set``.
+
+Each version's fastest path is used, the one that copies a whole array at once: Blender
+3.4's element properties (``MeshVertex.co``, ``MeshLoop.vertex_index``…) with unsigned
+(``I``) buffers, and from 4.0 the attributes (``position``, ``.corner_vert``,
+``.edge_verts``, ``crease_edge``…) with signed (``i``) buffers, where the element
+properties copy element by element, ten to a hundred times slower. Booleans go through
+lists (3.4) or ``bytearray`` (4.0+), for the same reason.
 
 Versions: Blender 3.4 keeps edge creases in ``MeshEdge.crease`` and vertex creases in
 ``Mesh.vertex_creases``; 4.0 and later in the ``crease_edge`` and ``crease_vert`` float
-attributes. From 4.0 ``MeshPolygon.loop_total`` is read-only (face sizes follow from
-``loop_start``).
+attributes, and smooth shading as the ``sharp_face`` attribute (4.1). From 4.0
+``MeshPolygon.loop_total`` is read-only (face sizes follow from ``loop_start``).
 """
 
 import array
 import ctypes
 import math
-from ctypes import POINTER, byref, c_double, c_uint32
+from ctypes import POINTER, byref, c_double, c_float, c_uint32
 
 import bpy
 
 from . import ffi
 
-#: Blender 4.0 moved creases to attributes and made ``loop_total`` read-only.
-ATTRIBUTE_CREASES = bpy.app.version >= (4, 0, 0)
+#: Blender 4.0 moved creases (and the mesh's own arrays) to attributes and made
+#: ``loop_total`` read-only.
+ATTRIBUTE_CREASES = NEW_API = bpy.app.version >= (4, 0, 0)
+#: Element indices: 4.0+'s attributes copy whole signed arrays, 3.4's element properties
+#: whole unsigned ones (katachi reads both as ``uint32_t``: indices are never negative).
+INDEX = "i" if NEW_API else "I"
 
 
 class ConversionError(Exception):
@@ -32,7 +45,8 @@ def crease_to_sharpness(crease):
     """Blender's edge or vertex crease (0..1) as an OpenSubdiv sharpness (0..10).
 
     The mapping Blender's Subdivision Surface modifier uses with OpenSubdiv: the square of
-    the crease times 10, so crease 1 is infinitely sharp (10) and 0.5 is 2.5."""
+    the crease times 10, so crease 1 is infinitely sharp (10) and 0.5 is 2.5. (katachi
+    applies it itself to whole arrays: ``KATACHI_SHARPNESS_SCALE_CREASE``.)"""
     c = min(max(crease, 0.0), 1.0)
     return c * c * 10.0
 
@@ -54,111 +68,19 @@ def _bools(n):
     return [False] * n
 
 
-# ---------------------------------------------------------------------------- reading
-
-
-class InputMesh:
-    """A Blender mesh's data, in katachi's corner order (polygon after polygon)."""
-
-    def __init__(self, mesh):
-        self.name = mesh.name
-        nv, ne = len(mesh.vertices), len(mesh.edges)
-        nf, nl = len(mesh.polygons), len(mesh.loops)
-        self.vertex_count, self.face_count, self.corner_count = nv, nf, nl
-
-        co = _zeros("f", 3 * nv)
-        mesh.vertices.foreach_get("co", co)
-        self.positions = array.array("d", co)
-
-        starts = _zeros("I", nf)
-        sizes = _zeros("I", nf)
-        mesh.polygons.foreach_get("loop_start", starts)
-        mesh.polygons.foreach_get("loop_total", sizes)
-        self.loop_sizes = sizes
-        loop_verts = _zeros("I", nl)
-        mesh.loops.foreach_get("vertex_index", loop_verts)
-
-        # katachi's corners run polygon after polygon; Blender's loops usually do too.
-        expected = 0
-        for s, n in zip(starts, sizes):
-            if s != expected:
-                break
-            expected += n
-        else:
-            expected = -1
-        if expected == -1 and sum(sizes) == nl:
-            self.corner_loops = None  # corner k is loop k
-            self.corners = loop_verts
-        else:
-            self.corner_loops = array.array("I")
-            for s, n in zip(starts, sizes):
-                self.corner_loops.extend(range(s, s + n))
-            self.corners = array.array("I", (loop_verts[i] for i in self.corner_loops))
-
-        # Edges: creases of edges that some face uses (loose edges are not subdivided).
-        edge_verts = _zeros("I", 2 * ne)
-        mesh.edges.foreach_get("vertices", edge_verts)
-        used = bytearray(ne)
-        loop_edges = _zeros("I", nl)
-        mesh.loops.foreach_get("edge_index", loop_edges)
-        for e in loop_edges:
-            used[e] = 1
-        self.loose_edge_count = ne - sum(used)
-        creases = _edge_creases(mesh, ne)
-        self.sharp_edges = array.array("I")
-        self.sharp_values = array.array("d")
-        if creases is not None:
-            for e in range(ne):
-                c = creases[e]
-                if c > 0.0 and used[e]:
-                    self.sharp_edges.append(edge_verts[2 * e])
-                    self.sharp_edges.append(edge_verts[2 * e + 1])
-                    self.sharp_values.append(crease_to_sharpness(c))
-
-        vcreases = _vertex_creases(mesh, nv)
-        if vcreases is not None and any(c > 0.0 for c in vcreases):
-            self.vertex_sharpness = array.array("d", (crease_to_sharpness(c) for c in vcreases))
-        else:
-            self.vertex_sharpness = None
-
-        # UV maps: one value per distinct (vertex, uv) pair, one index per corner.
-        self.uv_layers = []
-        for layer in mesh.uv_layers:
-            uv = _zeros("f", 2 * nl)
-            layer.data.foreach_get("uv", uv)
-            self.uv_layers.append((layer.name, *self._weld(uv)))
-        self.active_uv = mesh.uv_layers.active_index if mesh.uv_layers else -1
-        self.active_render_uv = next(
-            (i for i, l in enumerate(mesh.uv_layers) if l.active_render), -1
-        )
-
-    def _weld(self, uv):
-        """Per-corner UVs as (values, indices): corners at the same vertex with the same UV
-        share a value, so that katachi sees UV seams where Blender has them."""
-        values = array.array("d")
-        indices = _zeros("I", self.corner_count)
-        seen = {}
-        loops = self.corner_loops
-        for k, v in enumerate(self.corners):
-            i = k if loops is None else loops[k]
-            key = (v, uv[2 * i], uv[2 * i + 1])
-            idx = seen.get(key)
-            if idx is None:
-                idx = len(seen)
-                seen[key] = idx
-                values.append(key[1])
-                values.append(key[2])
-            indices[k] = idx
-        return values, indices
+def _attribute(mesh, name, domain, data_type, typecode, n):
+    """The values of attribute ``name`` (``array(typecode)``, or ``bytearray`` for booleans),
+    None when the mesh has no such attribute."""
+    attr = mesh.attributes.get(name)
+    if attr is None or attr.domain != domain or attr.data_type != data_type:
+        return None
+    values = bytearray(n) if data_type == "BOOLEAN" else _zeros(typecode, n)
+    attr.data.foreach_get("value", values)
+    return values
 
 
 def _float_attribute(mesh, name, domain, n):
-    attr = mesh.attributes.get(name)
-    if attr is None or attr.domain != domain or attr.data_type != "FLOAT":
-        return None
-    values = _zeros("f", n)
-    attr.data.foreach_get("value", values)
-    return values
+    return _attribute(mesh, name, domain, "FLOAT", "f", n)
 
 
 def _edge_creases(mesh, ne):
@@ -180,6 +102,76 @@ def _vertex_creases(mesh, nv):
     return values
 
 
+def _any_nonzero(values):
+    """Whether an ``array``/``bytearray`` holds anything but zeros (a C-speed scan)."""
+    return values is not None and values.count(0) != len(values)
+
+
+# ---------------------------------------------------------------------------- reading
+
+
+class InputMesh:
+    """A Blender mesh's arrays, read whole (see the module's docs for the paths)."""
+
+    def __init__(self, mesh):
+        self.name = mesh.name
+        nv, ne = len(mesh.vertices), len(mesh.edges)
+        nf, nl = len(mesh.polygons), len(mesh.loops)
+        self.vertex_count, self.edge_count = nv, ne
+        self.face_count, self.corner_count = nf, nl
+        self.positions = _zeros("f", 3 * nv)
+        self.face_starts = _zeros("I", nf)
+        mesh.polygons.foreach_get("loop_start", self.face_starts)
+        self.face_sizes = None  # 4.0+: faces are stored one after the other
+        self.corners = _zeros(INDEX, nl)
+        self.edges = _zeros(INDEX, 2 * ne)
+        self.corner_edges = _zeros(INDEX, nl)
+        self.uv_layers = []  # [(name, array('f'), 2 per corner)]
+        if NEW_API:
+            a = mesh.attributes
+            # An empty domain has no attribute at all.
+            for name, prop, buf in (
+                ("position", "vector", self.positions),
+                (".corner_vert", "value", self.corners),
+                (".corner_edge", "value", self.corner_edges),
+                (".edge_verts", "value", self.edges),
+            ):
+                if len(buf):
+                    a[name].data.foreach_get(prop, buf)
+            self.materials = _attribute(mesh, "material_index", "FACE", "INT", "i", nf)
+            self.sharp_face = _attribute(mesh, "sharp_face", "FACE", "BOOLEAN", None, nf)
+            self.smooth = None
+            for layer in mesh.uv_layers:
+                uv = _zeros("f", 2 * nl)
+                a[layer.name].data.foreach_get("vector", uv)
+                self.uv_layers.append((layer.name, uv))
+        else:
+            mesh.vertices.foreach_get("co", self.positions)
+            self.face_sizes = _zeros("I", nf)
+            mesh.polygons.foreach_get("loop_total", self.face_sizes)
+            mesh.loops.foreach_get("vertex_index", self.corners)
+            mesh.loops.foreach_get("edge_index", self.corner_edges)
+            mesh.edges.foreach_get("vertices", self.edges)
+            self.materials = _zeros("I", nf)
+            mesh.polygons.foreach_get("material_index", self.materials)
+            self.smooth = _bools(nf)
+            mesh.polygons.foreach_get("use_smooth", self.smooth)
+            self.sharp_face = None
+            for layer in mesh.uv_layers:
+                uv = _zeros("f", 2 * nl)
+                layer.data.foreach_get("uv", uv)
+                self.uv_layers.append((layer.name, uv))
+        self.edge_creases = _edge_creases(mesh, ne)
+        vcreases = _vertex_creases(mesh, nv)
+        self.vertex_creases = vcreases if _any_nonzero(vcreases) else None
+        self.active_uv = mesh.uv_layers.active_index if mesh.uv_layers else -1
+        self.active_render_uv = next(
+            (i for i, l in enumerate(mesh.uv_layers) if l.active_render), -1
+        )
+        #: Edges in no face (katachi drops them); known once :func:`to_katachi` ran.
+        self.loose_edge_count = 0
+
+
 # ---------------------------------------------------------------------------- katachi
 
 
@@ -191,10 +183,18 @@ def _f64(a):
     return ffi.ptr(a, c_double)
 
 
+def _f32(a):
+    return ffi.ptr(a, c_float)
+
+
+def _void(a):
+    return ctypes.cast(ffi.ptr(a, ctypes.c_uint8), ctypes.c_void_p)
+
+
 def create_mesh(lib, data):
-    """A new :class:`ffi.Mesh` of ``data``'s simple faces: ``positions``, ``vertex_count``,
-    ``loop_sizes``, ``face_count``, ``corners`` and ``corner_count`` (an :class:`InputMesh`
-    or a ``cutting.CutSource``)."""
+    """A new :class:`ffi.Mesh` of ``data``'s simple faces: ``positions`` (doubles),
+    ``vertex_count``, ``loop_sizes``, ``face_count``, ``corners`` and ``corner_count`` (a
+    ``cutting.CutSource``)."""
     handle = POINTER(ffi.KatachiMesh)()
     face_loops = array.array("I", [1]) * data.face_count
     lib.call(
@@ -210,48 +210,6 @@ def create_mesh(lib, data):
         byref(handle),
     )
     return ffi.Mesh(lib, handle)
-
-
-def to_katachi(lib, data):
-    """A new :class:`ffi.Mesh` holding ``data`` with its edge and vertex sharpness."""
-    mesh = create_mesh(lib, data)
-    try:
-        if len(data.sharp_values):
-            lib.call(
-                "katachi_mesh_set_edge_sharpnesses",
-                mesh.handle,
-                _u32(data.sharp_edges),
-                _f64(data.sharp_values),
-                len(data.sharp_values),
-            )
-        if data.vertex_sharpness is not None:
-            lib.call(
-                "katachi_mesh_set_all_vertex_sharpness",
-                mesh.handle,
-                _f64(data.vertex_sharpness),
-                len(data.vertex_sharpness),
-            )
-    except BaseException:
-        mesh.close()
-        raise
-    return mesh
-
-
-class Result:
-    """A subdivided mesh in Blender's terms (simple polygons), ready to become a mesh."""
-
-    positions = None  # array('d'), 3 per vertex
-    loop_sizes = None  # array('I'), one per face
-    corners = None  # array('I')
-    face_origin = None  # array('I'), input face of each face
-    uv_layers = ()  # [(name, array('d') 2 per corner)]
-    sharp_edges = None  # array('I') pairs
-    sharp_values = None  # array('d')
-    vertex_sharpness = None  # array('d') or None
-    fallback = ()  # [(input face, reason)]
-
-    def __init__(self):
-        self.warnings = []  # what the user should know, for self.report({'WARNING'})
 
 
 def _copy_positions(lib, mesh, counts):
@@ -277,94 +235,152 @@ def _copy_faces(lib, mesh, counts):
     return loop_sizes, face_loops, corners
 
 
+def to_katachi(lib, data):
+    """A new :class:`ffi.Mesh` holding ``data`` (an :class:`InputMesh`) with its edge and
+    vertex creases; sets ``data.loose_edge_count``."""
+    handle = POINTER(ffi.KatachiMesh)()
+    lib.call(
+        "katachi_mesh_create_polygons_f32",
+        _f32(data.positions),
+        data.vertex_count,
+        _u32(data.face_starts),
+        _u32(data.face_sizes) if data.face_sizes is not None else None,
+        data.face_count,
+        _u32(data.corners),
+        data.corner_count,
+        byref(handle),
+    )
+    mesh = ffi.Mesh(lib, handle)
+    try:
+        loose = c_uint32(0)
+        creases = data.edge_creases if _any_nonzero(data.edge_creases) else None
+        lib.call(
+            "katachi_mesh_set_edge_sharpness_f32",
+            mesh.handle,
+            _u32(data.edges),
+            _f32(creases) if creases is not None else None,
+            data.edge_count,
+            _u32(data.corner_edges),
+            data.corner_count,
+            ffi.KATACHI_SHARPNESS_SCALE_CREASE,
+            byref(loose),
+        )
+        data.loose_edge_count = loose.value
+        if data.vertex_creases is not None:
+            lib.call(
+                "katachi_mesh_set_vertex_sharpness_f32",
+                mesh.handle,
+                _f32(data.vertex_creases),
+                data.vertex_count,
+                ffi.KATACHI_SHARPNESS_SCALE_CREASE,
+            )
+    except BaseException:
+        mesh.close()
+        raise
+    return mesh
+
+
+class Result:
+    """A subdivided mesh as the arrays Blender stores (see :func:`subdivide`)."""
+
+    positions = None  # array('f'), 3 per vertex
+    face_starts = None  # array('I'), first corner of each face
+    face_sizes = None  # array('I'), corners of each face (for Blender 3.4's loop_total)
+    corners = None  # array(INDEX), one vertex per corner
+    edges = None  # array(INDEX), 2 per edge
+    corner_edges = None  # array(INDEX), one edge per corner
+    edge_creases = None  # array('f') per edge, or None when no crease is left
+    vertex_creases = None  # array('f') per vertex, or None
+    materials = None  # array per face, or None (all 0)
+    smooth = None  # 3.4: list per face, or None (all flat)
+    sharp_face = None  # 4.0+: bytearray per face, or None (all smooth)
+    uv_layers = ()  # [(name, array('f') 2 per corner)]
+    fallback = ()  # [(input face, reason)]
+
+    def __init__(self):
+        self.warnings = []  # what the user should know, for self.report({'WARNING'})
+
+
+def _carry(lib, sub, values, typecode, size, n):
+    """Per-input-face ``values`` (``size`` bytes each) carried to the ``n`` result faces."""
+    out = _zeros(typecode, n) if typecode else bytearray(n)
+    lib.call(
+        "katachi_subdivision_carry_face_data", sub.handle, _void(values), len(values), size,
+        _void(out), n,
+    )
+    return out
+
+
 def subdivide(lib, data, options, uv_mode, progress=None):
     """Subdivides ``data`` (an :class:`InputMesh`) with ``options`` (a
     ``KatachiSubdivideOptions``); UV maps follow with ``uv_mode`` (a ``KatachiFaceVarying``).
-    ``progress(fraction)`` is called between stages and after each subdivision level (from
-    0.1 to 0.6 as the levels are refined). Raises :class:`ffi.KatachiError`."""
+    Faces with holes in the result come back cut into simple polygons (Blender stores
+    none). ``progress(fraction)`` is called between stages and after each subdivision
+    level (from 0.1 to 0.6 as the levels are refined). Raises :class:`ffi.KatachiError`."""
     step = progress or (lambda f: None)
     out = Result()
 
     def level_done(done, total):
         step(0.1 + 0.5 * done / max(total, 1))
 
+    options.split_faces_with_holes = 1
     with to_katachi(lib, data) as mesh:
         step(0.1)
         subdivision = ffi.subdivide(lib, mesh, options, level_done)
     with subdivision as sub:
         step(0.6)
         info = sub.info()
-        origin = _zeros("I", info.face_count)
-        lib.call("katachi_subdivision_copy_face_origin", sub.handle, _u32(origin), len(origin))
         out.fallback = _fallbacks(lib, sub, info)
-
-        refined_uvs = []
-        for name, values, indices in data.uv_layers:
-            uv = _zeros("d", 2 * info.corner_count)
+        h = sub.handle
+        nv, nf, nc, ne = info.vertex_count, info.face_count, info.corner_count, info.edge_count
+        out.positions = _zeros("f", 3 * nv)
+        lib.call("katachi_subdivision_copy_positions_f32", h, _f32(out.positions), 3 * nv)
+        out.face_starts = _zeros("I", nf)
+        out.corners = _zeros(INDEX, nc)
+        if not NEW_API:
+            out.face_sizes = _zeros("I", nf)
+        lib.call(
+            "katachi_subdivision_copy_polygons", h, _u32(out.face_starts), nf,
+            _u32(out.face_sizes) if out.face_sizes is not None else None, nf,
+            _u32(out.corners), nc,
+        )
+        out.edges = _zeros(INDEX, 2 * ne)
+        out.corner_edges = _zeros(INDEX, nc)
+        lib.call(
+            "katachi_subdivision_copy_edges", h, _u32(out.edges), 2 * ne,
+            _u32(out.corner_edges), nc,
+        )
+        if info.sharp_edge_count:
+            out.edge_creases = _zeros("f", ne)
             lib.call(
-                "katachi_subdivision_refine_face_varying",
-                sub.handle,
-                _f64(values),
-                len(values),
-                2,
-                _u32(indices),
-                len(indices),
-                uv_mode,
-                _f64(uv),
-                len(uv),
+                "katachi_subdivision_copy_edge_sharpness_f32", h, _f32(out.edge_creases), ne,
+                ffi.KATACHI_SHARPNESS_SCALE_CREASE,
             )
-            refined_uvs.append((name, uv))
-        step(0.75)
-
-        rhandle = POINTER(ffi.KatachiMesh)()
-        lib.call("katachi_subdivision_mesh", sub.handle, byref(rhandle))
-    with ffi.Mesh(lib, rhandle) as refined:
-        counts = refined.counts()
-        if counts.loop_count > counts.face_count:
-            # Faces with holes (method [b], or a recovered face method [a] could not bridge):
-            # Blender stores none, so katachi cuts them along bridge edges.
-            final, corner_of = _split(lib, refined, counts, origin)
-        else:
-            final, corner_of = refined, None
-            out.face_origin = origin
-        try:
-            fcounts = final.counts()
-            out.positions = _copy_positions(lib, final, fcounts)
-            out.loop_sizes, _, out.corners = _copy_faces(lib, final, fcounts)
-            if corner_of is not None:
-                out.face_origin = final.face_origin
-                refined_uvs = [
-                    (name, array.array("d", _gather2(uv, corner_of))) for name, uv in refined_uvs
-                ]
-            out.uv_layers = refined_uvs
-            out.sharp_edges = _zeros("I", 2 * fcounts.sharp_edge_count)
-            out.sharp_values = _zeros("d", fcounts.sharp_edge_count)
+        if info.sharp_vertex_count:
+            out.vertex_creases = _zeros("f", nv)
             lib.call(
-                "katachi_mesh_copy_sharp_edges",
-                final.handle,
-                _u32(out.sharp_edges),
-                _f64(out.sharp_values),
-                fcounts.sharp_edge_count,
+                "katachi_subdivision_copy_vertex_sharpness_f32", h, _f32(out.vertex_creases),
+                nv, ffi.KATACHI_SHARPNESS_SCALE_CREASE,
             )
-            if fcounts.sharp_vertex_count:
-                out.vertex_sharpness = _zeros("d", fcounts.vertex_count)
-                lib.call(
-                    "katachi_mesh_copy_vertex_sharpness",
-                    final.handle,
-                    _f64(out.vertex_sharpness),
-                    len(out.vertex_sharpness),
-                )
-        finally:
-            if final is not refined:
-                final.close()
+        if _any_nonzero(data.materials):
+            out.materials = _carry(lib, sub, data.materials, INDEX, 4, nf)
+        if data.smooth is not None and any(data.smooth):
+            flags = _carry(lib, sub, bytearray(data.smooth), None, 1, nf)
+            out.smooth = [True] * nf if all(data.smooth) else list(flags)
+        if data.sharp_face is not None:
+            out.sharp_face = _carry(lib, sub, data.sharp_face, None, 1, nf)
+        step(0.7)
+        layers = []
+        for name, uv in data.uv_layers:
+            refined = _zeros("f", 2 * nc)
+            lib.call(
+                "katachi_subdivision_refine_corner_data_f32", h, _f32(uv), len(uv), 2, uv_mode,
+                _f32(refined), len(refined),
+            )
+            layers.append((name, refined))
+        out.uv_layers = layers
     step(0.9)
     return out
-
-
-def _gather2(uv, corner_of):
-    for k in corner_of:
-        yield uv[2 * k]
-        yield uv[2 * k + 1]
 
 
 def _fallbacks(lib, sub, info):
@@ -381,66 +397,12 @@ def _fallbacks(lib, sub, info):
     return out
 
 
-def _split(lib, refined, counts, origin):
-    """Cuts the faces with holes of ``refined``; returns the new mesh (with ``face_origin``
-    composed down to the input faces) and, per new corner, the refined corner it copies."""
-    split_origin = _zeros("I", counts.corner_count)  # more than enough: ≤ one face per corner
-    handle = POINTER(ffi.KatachiMesh)()
-    lib.call(
-        "katachi_mesh_split_faces_with_holes",
-        refined.handle,
-        byref(handle),
-        _u32(split_origin),
-        len(split_origin),
-    )
-    final = ffi.Mesh(lib, handle)
-    try:
-        fcounts = final.counts()
-        r_sizes, r_face_loops, r_corners = _copy_faces(lib, refined, counts)
-        # First corner of each refined face, and whether it has holes.
-        first = _zeros("I", counts.face_count + 1)
-        loop = 0
-        for f, nloops in enumerate(r_face_loops):
-            n = 0
-            for _ in range(nloops):
-                n += r_sizes[loop]
-                loop += 1
-            first[f + 1] = first[f] + n
-        f_sizes, _, f_corners = _copy_faces(lib, final, fcounts)
-        corner_of = _zeros("I", fcounts.corner_count)
-        face_origin = _zeros("I", fcounts.face_count)
-        maps = {}
-        k = 0
-        for f in range(fcounts.face_count):
-            r = split_origin[f]
-            face_origin[f] = origin[r]
-            n = f_sizes[f]
-            a, b = first[r], first[r + 1]
-            if r_face_loops[r] == 1:
-                # A simple face is copied as it was, corner for corner.
-                for j in range(n):
-                    corner_of[k + j] = a + j
-            else:
-                where = maps.get(r)
-                if where is None:
-                    where = {r_corners[c]: c for c in range(a, b)}
-                    maps[r] = where
-                for j in range(n):
-                    corner_of[k + j] = where[f_corners[k + j]]
-            k += n
-        final.face_origin = face_origin
-    except BaseException:
-        final.close()
-        raise
-    return final, corner_of
-
-
 # ---------------------------------------------------------------------------- writing
 
 
 def to_blender(result, source, name):
-    """A new Blender mesh from ``result``; face data, materials and UV map names come from
-    ``source`` (the input Blender mesh, which is not changed)."""
+    """A new Blender mesh from ``result``; materials and UV map names come from ``source``
+    (the input Blender mesh, which is not changed)."""
     me = bpy.data.meshes.new(name)
     try:
         _fill(me, result, source)
@@ -450,38 +412,66 @@ def to_blender(result, source, name):
     return me
 
 
-def _fill(me, result, source):
-    nv = len(result.positions) // 3
+def _fill(me, r, source):
+    nv, nf = len(r.positions) // 3, len(r.face_starts)
+    nc, ne = len(r.corners), len(r.edges) // 2
     me.vertices.add(nv)
-    me.vertices.foreach_set("co", array.array("f", result.positions))
-    add_faces(me, result.loop_sizes, result.corners)
-
-    # Face data follows the input face each face comes from.
-    src_mat = _zeros("I", len(source.polygons))
-    source.polygons.foreach_get("material_index", src_mat)
-    me.polygons.foreach_set(
-        "material_index", array.array("I", (src_mat[o] for o in result.face_origin))
-    )
-    src_smooth = _bools(len(source.polygons))
-    source.polygons.foreach_get("use_smooth", src_smooth)
-    me.polygons.foreach_set("use_smooth", [src_smooth[o] for o in result.face_origin])
+    me.edges.add(ne)
+    me.loops.add(nc)
+    me.polygons.add(nf)
+    me.polygons.foreach_set("loop_start", r.face_starts)
+    if NEW_API:
+        a = me.attributes
+        for name, prop, buf in (
+            ("position", "vector", r.positions),
+            (".edge_verts", "value", r.edges),
+            (".corner_vert", "value", r.corners),
+            (".corner_edge", "value", r.corner_edges),
+        ):
+            if len(buf):
+                a[name].data.foreach_set(prop, buf)
+        for attr, data_type, domain, values in (
+            ("material_index", "INT", "FACE", r.materials),
+            ("sharp_face", "BOOLEAN", "FACE", r.sharp_face),
+            ("crease_edge", "FLOAT", "EDGE", r.edge_creases),
+            ("crease_vert", "FLOAT", "POINT", r.vertex_creases),
+        ):
+            if values is not None:
+                (a.get(attr) or a.new(attr, data_type, domain)).data.foreach_set("value", values)
+        for uv_name, uv in r.uv_layers:
+            if me.uv_layers.new(name=uv_name, do_init=False) is None:
+                raise ConversionError(f"Blender refused UV map {uv_name!r} (too many UV maps?)")
+            a[uv_name].data.foreach_set("vector", uv)
+    else:
+        me.vertices.foreach_set("co", r.positions)
+        me.edges.foreach_set("vertices", r.edges)
+        me.loops.foreach_set("vertex_index", r.corners)
+        me.loops.foreach_set("edge_index", r.corner_edges)
+        me.polygons.foreach_set("loop_total", r.face_sizes)
+        if r.materials is not None:
+            me.polygons.foreach_set("material_index", r.materials)
+        if r.smooth is not None:
+            me.polygons.foreach_set("use_smooth", r.smooth)
+        if r.edge_creases is not None:
+            me.edges.foreach_set("crease", r.edge_creases)
+        for uv_name, uv in r.uv_layers:
+            add_uv_map(me, uv_name, uv)
     for mat in source.materials:
         me.materials.append(mat)
-
-    me.update(calc_edges=True)
-    repair_selection_attributes(me)
-
-    for name, uv in result.uv_layers:
-        add_uv_map(me, name, array.array("f", uv))
+    me.update()
+    if not NEW_API and r.vertex_creases is not None:
+        write_with_bmesh(me, r.vertex_creases)
     for i, layer in enumerate(source.uv_layers):
-        if i < len(me.uv_layers):
-            if layer.active_render:
-                me.uv_layers[i].active_render = True
+        if i < len(me.uv_layers) and layer.active_render:
+            me.uv_layers[i].active_render = True
     if source.uv_layers and 0 <= source.uv_layers.active_index < len(me.uv_layers):
         me.uv_layers.active_index = source.uv_layers.active_index
-
-    _write_creases(me, result)
-    finish(me, source, "subdivided")
+    if (len(me.vertices), len(me.edges), len(me.loops), len(me.polygons)) != (nv, ne, nc, nf):
+        raise ConversionError(
+            "Blender changed the subdivided mesh while building it; the object was left as "
+            "it was (please report this as a katachi bug)"
+        )
+    finish(me, source, "subdivided", validate=False)
 
 
 def add_faces(me, loop_sizes, loop_verts):
@@ -509,15 +499,16 @@ def add_uv_map(me, name, uv):
     layer.data.foreach_set("uv", uv)
 
 
-def finish(me, source, what):
-    """The new mesh ``me`` takes the auto smooth settings of ``source`` (Blender < 4.1) and
-    is validated: :class:`ConversionError` (naming the ``what`` mesh) when Blender finds it
-    invalid."""
+def finish(me, source, what, validate=True):
+    """The new mesh ``me`` takes the auto smooth settings of ``source`` (Blender < 4.1) and,
+    with ``validate``, is validated: :class:`ConversionError` (naming the ``what`` mesh)
+    when Blender finds it invalid. (A mesh built from katachi's own arrays is valid by
+    construction, and Blender's validation costs several times the building.)"""
     if hasattr(source, "use_auto_smooth"):  # Blender < 4.1
         me.use_auto_smooth = source.use_auto_smooth
         me.auto_smooth_angle = source.auto_smooth_angle
 
-    if me.validate(verbose=False):
+    if validate and me.validate(verbose=False):
         raise ConversionError(
             f"Blender found the {what} mesh invalid; the object was left as it was "
             "(please report this as a katachi bug)"
@@ -533,38 +524,6 @@ def repair_selection_attributes(me):
         attr = me.attributes.get(name)
         if attr is not None and attr.data_type != "BOOLEAN":
             me.attributes.remove(attr)
-
-
-def _write_creases(me, result):
-    """The sharpness left after refinement (semi-sharp creases not yet spent, infinitely
-    sharp ones) goes back to Blender as creases."""
-    n = len(result.sharp_values)
-    if n:
-        ne = len(me.edges)
-        edge_verts = _zeros("I", 2 * ne)
-        me.edges.foreach_get("vertices", edge_verts)
-        sharp = {}
-        for i in range(n):
-            a, b = result.sharp_edges[2 * i], result.sharp_edges[2 * i + 1]
-            sharp[(a, b) if a < b else (b, a)] = result.sharp_values[i]
-        creases = _zeros("f", ne)
-        for e in range(ne):
-            a, b = edge_verts[2 * e], edge_verts[2 * e + 1]
-            s = sharp.get((a, b) if a < b else (b, a))
-            if s is not None:
-                creases[e] = sharpness_to_crease(s)
-        if ATTRIBUTE_CREASES:
-            attr = me.attributes.new("crease_edge", "FLOAT", "EDGE")
-            attr.data.foreach_set("value", creases)
-        else:
-            me.edges.foreach_set("crease", creases)
-    if result.vertex_sharpness is not None:
-        vc = array.array("f", (sharpness_to_crease(s) for s in result.vertex_sharpness))
-        if ATTRIBUTE_CREASES:
-            attr = me.attributes.new("crease_vert", "FLOAT", "POINT")
-            attr.data.foreach_set("value", vc)
-        else:
-            write_with_bmesh(me, vc)
 
 
 def write_with_bmesh(me, creases, weights=None, groups=0):

@@ -22,6 +22,7 @@ from ctypes import (
     c_char,
     c_char_p,
     c_double,
+    c_float,
     c_int64,
     c_size_t,
     c_uint32,
@@ -29,7 +30,7 @@ from ctypes import (
 )
 
 #: The ABI this add-on was written against (``KATACHI_ABI_VERSION`` in the header).
-KATACHI_ABI_VERSION = 1
+KATACHI_ABI_VERSION = 2
 
 #: The library's file name, looked for beside this module.
 LIBRARY_NAME = "libkatachi.so"
@@ -53,6 +54,8 @@ KATACHI_FACE_VARYING_SMOOTH = 0
 KATACHI_FACE_VARYING_LINEAR_CORNERS_ONLY = 1
 KATACHI_FACE_VARYING_LINEAR_BOUNDARIES = 2
 KATACHI_FACE_VARYING_LINEAR_ALL = 3
+KATACHI_SHARPNESS_SCALE_SHARPNESS = 0
+KATACHI_SHARPNESS_SCALE_CREASE = 1
 KATACHI_CUT_MODE_VISIBLE_ONLY = 0
 KATACHI_CUT_MODE_THROUGH_ALL = 1
 KATACHI_CUT_STAGE_PREPROCESSING = 0
@@ -128,6 +131,7 @@ class KatachiSubdivideOptions(ctypes.Structure):
         ("recover_faces_with_holes", c_uint32),
         ("coplanar_angle_tolerance", c_double),
         ("feature_angle_degrees", c_double),
+        ("split_faces_with_holes", c_uint32),
     ]
 
 
@@ -137,11 +141,15 @@ class KatachiSubdivisionInfo(ctypes.Structure):
         ("levels", c_uint32),
         ("vertex_count", c_uint32),
         ("face_count", c_uint32),
+        ("loop_count", c_uint32),
         ("corner_count", c_uint32),
+        ("edge_count", c_uint32),
+        ("sharp_edge_count", c_uint32),
+        ("sharp_vertex_count", c_uint32),
         ("input_vertex_count", c_uint32),
+        ("input_face_count", c_uint32),
         ("input_corner_count", c_uint32),
         ("fallback_face_count", c_uint32),
-        ("stencil_entry_count", c_uint32),
     ]
 
 
@@ -217,6 +225,9 @@ FUNCTIONS = {
     "katachi_mesh_copy_sharp_edges": (KatachiStatus, [POINTER(KatachiMesh), POINTER(c_uint32), POINTER(c_double), c_size_t]),
     "katachi_mesh_copy_vertex_sharpness": (KatachiStatus, [POINTER(KatachiMesh), POINTER(c_double), c_size_t]),
     "katachi_mesh_set_all_vertex_sharpness": (KatachiStatus, [POINTER(KatachiMesh), POINTER(c_double), c_size_t]),
+    "katachi_mesh_create_polygons_f32": (KatachiStatus, [POINTER(c_float), c_uint32, POINTER(c_uint32), POINTER(c_uint32), c_uint32, POINTER(c_uint32), c_uint32, POINTER(POINTER(KatachiMesh))]),
+    "katachi_mesh_set_edge_sharpness_f32": (KatachiStatus, [POINTER(KatachiMesh), POINTER(c_uint32), POINTER(c_float), c_uint32, POINTER(c_uint32), c_uint32, c_uint32, POINTER(c_uint32)]),
+    "katachi_mesh_set_vertex_sharpness_f32": (KatachiStatus, [POINTER(KatachiMesh), POINTER(c_float), c_uint32, c_uint32]),
     "katachi_mesh_info_default": (KatachiMeshInfo, []),
     "katachi_mesh_inspect": (KatachiStatus, [POINTER(KatachiMesh), POINTER(KatachiMeshInfo)]),
     "katachi_subdivide_options_default": (KatachiSubdivideOptions, []),
@@ -228,6 +239,13 @@ FUNCTIONS = {
     "katachi_subdivision_mesh": (KatachiStatus, [POINTER(KatachiSubdivision), POINTER(POINTER(KatachiMesh))]),
     "katachi_subdivision_copy_face_origin": (KatachiStatus, [POINTER(KatachiSubdivision), POINTER(c_uint32), c_size_t]),
     "katachi_subdivision_copy_fallback_faces": (KatachiStatus, [POINTER(KatachiSubdivision), POINTER(c_uint32), c_size_t]),
+    "katachi_subdivision_copy_positions_f32": (KatachiStatus, [POINTER(KatachiSubdivision), POINTER(c_float), c_size_t]),
+    "katachi_subdivision_copy_polygons": (KatachiStatus, [POINTER(KatachiSubdivision), POINTER(c_uint32), c_size_t, POINTER(c_uint32), c_size_t, POINTER(c_uint32), c_size_t]),
+    "katachi_subdivision_copy_edges": (KatachiStatus, [POINTER(KatachiSubdivision), POINTER(c_uint32), c_size_t, POINTER(c_uint32), c_size_t]),
+    "katachi_subdivision_copy_edge_sharpness_f32": (KatachiStatus, [POINTER(KatachiSubdivision), POINTER(c_float), c_size_t, c_uint32]),
+    "katachi_subdivision_copy_vertex_sharpness_f32": (KatachiStatus, [POINTER(KatachiSubdivision), POINTER(c_float), c_size_t, c_uint32]),
+    "katachi_subdivision_carry_face_data": (KatachiStatus, [POINTER(KatachiSubdivision), c_void_p, c_size_t, c_uint32, c_void_p, c_size_t]),
+    "katachi_subdivision_refine_corner_data_f32": (KatachiStatus, [POINTER(KatachiSubdivision), POINTER(c_float), c_size_t, c_uint32, c_uint32, POINTER(c_float), c_size_t]),
     "katachi_subdivision_fallback_reason": (KatachiStatus, [POINTER(KatachiSubdivision), c_uint32, POINTER(c_char), c_size_t]),
     "katachi_subdivision_refine_face_varying": (KatachiStatus, [POINTER(KatachiSubdivision), POINTER(c_double), c_size_t, c_uint32, POINTER(c_uint32), c_size_t, c_uint32, POINTER(c_double), c_size_t]),
     "katachi_mesh_split_faces_with_holes": (KatachiStatus, [POINTER(KatachiMesh), POINTER(POINTER(KatachiMesh)), POINTER(c_uint32), c_size_t]),

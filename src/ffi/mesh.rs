@@ -18,12 +18,76 @@ use crate::mesh::{PolyMesh, VertexId};
 /// a non-const `KatachiMesh*`) must not run concurrently with any other call on the same mesh.
 pub struct KatachiMesh {
     pub(crate) mesh: PolyMesh,
+    /// When the mesh was made from a host's faces whose corners are not stored face after
+    /// face (`katachi_mesh_create_polygons_f32` with scattered starts): the host's corner of
+    /// each katachi corner, so per-corner data given in the host's order is read right.
+    pub(crate) host_corners: Option<Vec<u32>>,
 }
 
 impl KatachiMesh {
     /// Moves `mesh` to the heap and hands it out as a C handle.
     pub(crate) fn into_raw(mesh: PolyMesh) -> *mut KatachiMesh {
-        Box::into_raw(Box::new(KatachiMesh { mesh }))
+        Box::into_raw(Box::new(KatachiMesh {
+            mesh,
+            host_corners: None,
+        }))
+    }
+}
+
+/// How sharpness is given or read in the `_f32` calls that take a `scale`.
+#[repr(u32)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum KatachiSharpnessScale {
+    /// OpenSubdiv's sharpness: 0 smooth, values in (0, 10) semi-sharp, ≥ 10 infinitely sharp.
+    Sharpness = 0,
+    /// A crease weight in [0, 1], Blender's: sharpness = 10 × crease² (the mapping Blender's
+    /// Subdivision Surface modifier uses with OpenSubdiv), so crease 1 is infinitely sharp.
+    Crease = 1,
+}
+
+/// The scale named by a `scale` argument.
+pub(crate) fn sharpness_scale(scale: u32) -> FfiResult<KatachiSharpnessScale> {
+    match scale {
+        0 => Ok(KatachiSharpnessScale::Sharpness),
+        1 => Ok(KatachiSharpnessScale::Crease),
+        v => Err(FfiError::invalid(format!(
+            "scale is {v}, which is not KATACHI_SHARPNESS_SCALE_SHARPNESS (0) or \
+             KATACHI_SHARPNESS_SCALE_CREASE (1)"
+        ))),
+    }
+}
+
+impl KatachiSharpnessScale {
+    /// A caller's value as sharpness; `element` names it in the error for a value outside
+    /// the scale.
+    pub(crate) fn to_sharpness(self, v: f32, element: impl FnOnce() -> String) -> FfiResult<f64> {
+        let ok = match self {
+            KatachiSharpnessScale::Sharpness => v.is_finite() && v >= 0.0,
+            KatachiSharpnessScale::Crease => (0.0..=1.0).contains(&v),
+        };
+        if !ok {
+            let range = match self {
+                KatachiSharpnessScale::Sharpness => "finite and ≥ 0",
+                KatachiSharpnessScale::Crease => "a crease in [0, 1]",
+            };
+            return Err(FfiError::new(
+                KatachiStatus::BadInput,
+                format!("{} is {v}, which is not {range}", element()),
+            ));
+        }
+        let v = f64::from(v);
+        Ok(match self {
+            KatachiSharpnessScale::Sharpness => v,
+            KatachiSharpnessScale::Crease => 10.0 * v * v,
+        })
+    }
+
+    /// Sharpness in this scale (a crease is `sqrt(sharpness / 10)`, 1 from 10 up).
+    pub(crate) fn of_sharpness(self, s: f32) -> f32 {
+        match self {
+            KatachiSharpnessScale::Sharpness => s,
+            KatachiSharpnessScale::Crease => (s.clamp(0.0, 10.0) / 10.0).sqrt(),
+        }
     }
 }
 
@@ -240,8 +304,11 @@ pub unsafe extern "C" fn katachi_mesh_clone(
     guard("katachi_mesh_clone", || {
         // SAFETY: the caller's promises above.
         let out = unsafe { reset_out(out) }?;
-        let mesh = unsafe { mesh_ref(mesh) }?;
-        *out = KatachiMesh::into_raw(mesh.clone());
+        let m = unsafe { deref(mesh, "mesh") }?;
+        *out = Box::into_raw(Box::new(KatachiMesh {
+            mesh: m.mesh.clone(),
+            host_corners: m.host_corners.clone(),
+        }));
         Ok(())
     })
 }
@@ -709,6 +776,301 @@ pub unsafe extern "C" fn katachi_mesh_split_faces_with_holes(
             }
         }
         *out = KatachiMesh::into_raw(split);
+        Ok(())
+    })
+}
+
+// ---------------------------------------------------------------------------------------
+// Meshes from a host's arrays (Blender's layout: f32 positions, faces by their first corner)
+
+/// Creates a mesh of simple polygons from a host's arrays, as Blender stores a mesh:
+///
+/// - `positions`: 3 × `vertex_count` floats, `x0 y0 z0 x1 …` (kept as doubles); every value finite;
+/// - `face_starts`: `face_count` values, the index of each face's first corner in
+///   `corner_vertices`;
+/// - `face_sizes`: `face_count` values, the corners of each face (each ≥ 3), or NULL when the
+///   faces are stored one after the other: then `face_starts` ascends and each face ends
+///   where the next one starts (the last at `corner_count`);
+/// - `corner_vertices`: `corner_count` vertex indices; the faces' corners add up to
+///   `corner_count`.
+///
+/// When the faces' corners are not stored face after face, katachi reads them in face order
+/// and remembers the host's order: the per-corner calls on results of this mesh
+/// (`katachi_subdivision_refine_corner_data_f32`) then read values in the host's order too.
+/// The arrays are copied. On success `*out` receives a new mesh (free it with
+/// `katachi_mesh_free`); on failure `*out` is NULL.
+///
+/// Statuses: `KATACHI_STATUS_OK`; `KATACHI_STATUS_NULL_POINTER` (`out` NULL, or an array NULL
+/// with a nonzero count); `KATACHI_STATUS_INVALID_ARGUMENT` (a face's corners outside
+/// `corner_vertices`, sizes that do not add up to `corner_count`, starts that do not ascend
+/// when `face_sizes` is NULL; the message names the face); `KATACHI_STATUS_BAD_INPUT` (as
+/// `katachi_mesh_create`: a non-finite coordinate, an index out of range, a face with fewer
+/// than 3 distinct vertices or a repeated vertex).
+///
+/// # Safety
+/// Each non-NULL array must hold the number of elements stated above; `out` must be NULL or
+/// point to writable storage for one pointer.
+#[no_mangle]
+#[allow(clippy::too_many_arguments)]
+pub unsafe extern "C" fn katachi_mesh_create_polygons_f32(
+    positions: *const f32,
+    vertex_count: u32,
+    face_starts: *const u32,
+    face_sizes: *const u32,
+    face_count: u32,
+    corner_vertices: *const u32,
+    corner_count: u32,
+    out: *mut *mut KatachiMesh,
+) -> KatachiStatus {
+    guard("katachi_mesh_create_polygons_f32", || {
+        // SAFETY (all blocks): the caller's promises above.
+        let out = unsafe { reset_out(out) }?;
+        let positions = unsafe {
+            slice(
+                positions,
+                3 * vertex_count as usize,
+                "positions",
+                &format_args!("vertex_count is {vertex_count}"),
+            )
+        }?;
+        let nf = face_count as usize;
+        let starts = unsafe {
+            slice(
+                face_starts,
+                nf,
+                "face_starts",
+                &format_args!("face_count is {face_count}"),
+            )
+        }?;
+        let sizes = if face_sizes.is_null() {
+            None
+        } else {
+            Some(unsafe { slice(face_sizes, nf, "face_sizes", &"it is not NULL") }?)
+        };
+        let corners = unsafe {
+            slice(
+                corner_vertices,
+                corner_count as usize,
+                "corner_vertices",
+                &format_args!("corner_count is {corner_count}"),
+            )
+        }?;
+        let size = |f: usize| -> FfiResult<u32> {
+            match sizes {
+                Some(s) => Ok(s[f]),
+                None => {
+                    let end = if f + 1 < nf {
+                        starts[f + 1]
+                    } else {
+                        corner_count
+                    };
+                    end.checked_sub(starts[f]).ok_or_else(|| {
+                        FfiError::invalid(format!(
+                            "face_sizes is NULL, so face_starts must ascend, but face {f} starts \
+                             at corner {} and face {} at {end}",
+                            starts[f],
+                            f + 1
+                        ))
+                    })
+                }
+            }
+        };
+        let mut loop_sizes = Vec::with_capacity(nf);
+        let mut contiguous = true;
+        let mut total = 0u64;
+        for (f, &start) in starts.iter().enumerate() {
+            let n = size(f)?;
+            let end = u64::from(start) + u64::from(n);
+            if end > u64::from(corner_count) {
+                return Err(FfiError::invalid(format!(
+                    "face {f} has corners {start}..{end}, beyond corner_count ({corner_count})"
+                )));
+            }
+            contiguous &= u64::from(start) == total;
+            total += u64::from(n);
+            loop_sizes.push(n);
+        }
+        if total != u64::from(corner_count) {
+            return Err(FfiError::invalid(format!(
+                "the faces have {total} corners in all, but corner_count is {corner_count}"
+            )));
+        }
+        let gathered: Vec<u32>;
+        let (corners, host_corners) = if contiguous {
+            (corners, None)
+        } else {
+            let order: Vec<u32> = starts
+                .iter()
+                .zip(&loop_sizes)
+                .flat_map(|(&s, &n)| s..s + n)
+                .collect();
+            gathered = order.iter().map(|&k| corners[k as usize]).collect();
+            (&gathered[..], Some(order))
+        };
+        let points: Vec<f64> = positions.iter().map(|&x| f64::from(x)).collect();
+        let mesh = PolyMesh::from_flat(&points, &loop_sizes, &vec![1; nf], corners)?;
+        *out = Box::into_raw(Box::new(KatachiMesh { mesh, host_corners }));
+        Ok(())
+    })
+}
+
+/// Sets edge sharpness from a host's edge list, all or nothing, and counts the host's loose
+/// edges:
+///
+/// - `edges`: 2 × `edge_count` vertex indices (`a0 b0 a1 b1 …`), the host's edges;
+/// - `values`: `edge_count` values in `scale` (a `KatachiSharpnessScale`), or NULL to set
+///   nothing. Edges whose value is 0 are skipped, and so is an edge that is no side of any
+///   face (a loose edge); other edges keep their sharpness;
+/// - `corner_edges`: `corner_count` values, the host's edge of each corner (in any order of
+///   the corners), or NULL;
+/// - `*loose_edges` (when not NULL): how many of the host's edges are no side of any face —
+///   counted exactly with `corner_edges` (the edges no corner names), otherwise only among
+///   the edges with a nonzero value.
+///
+/// Statuses: `KATACHI_STATUS_OK`; `KATACHI_STATUS_NULL_POINTER` (`mesh` NULL, or `edges` NULL
+/// with `edge_count > 0`); `KATACHI_STATUS_INVALID_ARGUMENT` (a vertex index out of range or
+/// an edge with twice the same vertex, named by its position; a corner's edge out of range;
+/// `corner_count` not the mesh's; a bad `scale`); `KATACHI_STATUS_BAD_INPUT` (a value outside
+/// the scale, named by its edge). On failure the mesh is unchanged.
+///
+/// # Safety
+/// `mesh` must be NULL or a live handle that no other call is using; non-NULL arrays must
+/// hold the counts above; `loose_edges` NULL or writable.
+#[no_mangle]
+#[allow(clippy::too_many_arguments)]
+pub unsafe extern "C" fn katachi_mesh_set_edge_sharpness_f32(
+    mesh: *mut KatachiMesh,
+    edges: *const u32,
+    values: *const f32,
+    edge_count: u32,
+    corner_edges: *const u32,
+    corner_count: u32,
+    scale: u32,
+    loose_edges: *mut u32,
+) -> KatachiStatus {
+    guard("katachi_mesh_set_edge_sharpness_f32", || {
+        // SAFETY: the caller's promises above.
+        let mesh = unsafe { mesh_mut(mesh) }?;
+        let scale = sharpness_scale(scale)?;
+        let n = edge_count as usize;
+        let why = format_args!("edge_count is {edge_count}");
+        let edges = unsafe { slice(edges, 2 * n, "edges", &why) }?;
+        let values = if values.is_null() {
+            None
+        } else {
+            Some(unsafe { slice(values, n, "values", &why) }?)
+        };
+        let corner_edges = if corner_edges.is_null() {
+            None
+        } else {
+            if corner_count != mesh.corner_count() {
+                return Err(FfiError::invalid(format!(
+                    "corner_count is {corner_count}, but the mesh has {} corners",
+                    mesh.corner_count()
+                )));
+            }
+            let c = unsafe {
+                slice(
+                    corner_edges,
+                    corner_count as usize,
+                    "corner_edges",
+                    &"it is not NULL",
+                )
+            }?;
+            if let Some((k, &e)) = c.iter().enumerate().find(|(_, &e)| e >= edge_count) {
+                return Err(FfiError::invalid(format!(
+                    "corner_edges[{k}] is {e}, but there are {edge_count} edges"
+                )));
+            }
+            Some(c)
+        };
+        let mut wanted: Vec<((u32, u32), f64)> = Vec::new();
+        let nv = mesh.vertex_count();
+        for (i, pair) in edges.chunks_exact(2).enumerate() {
+            if pair[0] >= nv || pair[1] >= nv || pair[0] == pair[1] {
+                let names = [format!("edges[{}]", 2 * i), format!("edges[{}]", 2 * i + 1)];
+                check_edge(mesh, pair[0], pair[1], [&names[0], &names[1]])?;
+            }
+            if let Some(values) = values {
+                let s = scale.to_sharpness(values[i], || {
+                    format!("values[{i}] (edge {}-{})", pair[0], pair[1])
+                })?;
+                if s > 0.0 {
+                    wanted.push(((pair[0].min(pair[1]), pair[0].max(pair[1])), s));
+                }
+            }
+        }
+        let loose_out = if loose_edges.is_null() {
+            None
+        } else {
+            // Checked before the mesh changes, so a bad pointer leaves it untouched.
+            Some(unsafe { deref_mut(loose_edges, "loose_edges") }?)
+        };
+        let skipped = mesh.set_sharpness_of_existing_edges(
+            wanted
+                .into_iter()
+                .map(|((a, b), s)| (VertexId(a), VertexId(b), s)),
+        )?;
+        let loose = match corner_edges {
+            Some(c) => {
+                let mut used = vec![false; n];
+                for &e in c {
+                    used[e as usize] = true;
+                }
+                used.iter().filter(|&&u| !u).count() as u32
+            }
+            None => skipped,
+        };
+        if let Some(out) = loose_out {
+            *out = loose;
+        }
+        Ok(())
+    })
+}
+
+/// Replaces the sharpness of every vertex from a host's array, all or nothing: `values`
+/// holds `count` values in `scale` (a `KatachiSharpnessScale`), one per vertex; `count` must
+/// equal the vertex count.
+///
+/// Statuses: `KATACHI_STATUS_OK`; `KATACHI_STATUS_NULL_POINTER`;
+/// `KATACHI_STATUS_INVALID_ARGUMENT` (`count` is not the vertex count, a bad `scale`);
+/// `KATACHI_STATUS_BAD_INPUT` (a value outside the scale, named by its vertex). On failure
+/// the mesh is unchanged.
+///
+/// # Safety
+/// `mesh` must be NULL or a live handle that no other call is using; a non-NULL `values`
+/// must hold `count` floats.
+#[no_mangle]
+pub unsafe extern "C" fn katachi_mesh_set_vertex_sharpness_f32(
+    mesh: *mut KatachiMesh,
+    values: *const f32,
+    count: u32,
+    scale: u32,
+) -> KatachiStatus {
+    guard("katachi_mesh_set_vertex_sharpness_f32", || {
+        // SAFETY: the caller's promises above.
+        let mesh = unsafe { mesh_mut(mesh) }?;
+        let scale = sharpness_scale(scale)?;
+        let nv = mesh.vertex_count();
+        if count != nv {
+            return Err(FfiError::invalid(format!(
+                "count is {count}, but the mesh has {nv} vertices (one value per vertex)"
+            )));
+        }
+        let values = unsafe {
+            slice(
+                values,
+                count as usize,
+                "values",
+                &format_args!("count is {count}"),
+            )
+        }?;
+        let sharpness = values
+            .iter()
+            .enumerate()
+            .map(|(v, &x)| scale.to_sharpness(x, || format!("values[{v}] (vertex {v})")))
+            .collect::<FfiResult<Vec<f64>>>()?;
+        mesh.set_all_vertex_sharpness(sharpness)?;
         Ok(())
     })
 }

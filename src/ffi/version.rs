@@ -17,7 +17,7 @@ pub const KATACHI_VERSION_PATCH: u32 = 0;
 /// The version of the C ABI this header describes. It grows by one whenever a change would
 /// break a program compiled against an older header (a function's signature, a struct's
 /// layout beyond its `struct_size`, a status's meaning). Adding functions does not change it.
-pub const KATACHI_ABI_VERSION: u32 = 1;
+pub const KATACHI_ABI_VERSION: u32 = 2;
 
 /// The ABI version of the library at run time; equals `KATACHI_ABI_VERSION` of the header the
 /// library was built with. Never fails.

@@ -5,7 +5,7 @@
 //! Edge sharpness is sparse (creases are few), keyed by the undirected vertex pair and kept
 //! in a `BTreeMap` so iteration order, and hence every output, is deterministic.
 
-use std::collections::{BTreeMap, HashSet};
+use std::collections::BTreeMap;
 
 use super::ids::{FaceId, VertexId};
 use super::polymesh::PolyMesh;
@@ -70,16 +70,34 @@ fn check_len(
 }
 
 impl PolyMesh {
-    /// The undirected edges of all loops, as `(min, max)` vertex pairs.
-    fn edge_set(&self) -> HashSet<(u32, u32)> {
-        let mut set = HashSet::with_capacity(self.corners().len());
-        for l in 0..self.loop_count() {
-            let lp = self.loop_vertices(super::LoopId(l));
-            for (i, &a) in lp.iter().enumerate() {
-                set.insert(edge_key(a, lp[(i + 1) % lp.len()]));
+    /// Which of the `keys` (sorted `(min, max)` vertex pairs) are sides of some loop: one
+    /// pass over the corners, looking up only those at a key's smaller vertex (a few creases
+    /// on a large mesh cost a pass, not a set of every edge).
+    fn find_edges(&self, keys: &[(u32, u32)]) -> Vec<bool> {
+        debug_assert!(keys.is_sorted());
+        let mut found = vec![false; keys.len()];
+        if keys.is_empty() {
+            return found;
+        }
+        let mut at_end = vec![false; self.vertex_count() as usize];
+        for &(a, _) in keys {
+            if let Some(x) = at_end.get_mut(a as usize) {
+                *x = true;
             }
         }
-        set
+        let corners = self.corners();
+        for w in self.loop_offsets().windows(2) {
+            let (a, b) = (w[0] as usize, w[1] as usize);
+            for c in a..b {
+                let key = edge_key(corners[c], corners[if c + 1 < b { c + 1 } else { a }]);
+                if at_end[key.0 as usize] {
+                    if let Ok(i) = keys.binary_search(&key) {
+                        found[i] = true;
+                    }
+                }
+            }
+        }
+        found
     }
 
     /// Sharpness of the edge between `a` and `b` (0 when none was set).
@@ -114,9 +132,13 @@ impl PolyMesh {
         if values.is_empty() {
             return Ok(());
         }
-        let edges = self.edge_set();
+        let mut keys: Vec<(u32, u32)> = values.iter().map(|&(a, b, _)| edge_key(a, b)).collect();
+        keys.sort_unstable();
+        keys.dedup();
+        let found = self.find_edges(&keys);
         for &(a, b, s) in &values {
-            if !edges.contains(&edge_key(a, b)) {
+            let i = keys.binary_search(&edge_key(a, b)).expect("every key");
+            if !found[i] {
                 return Err(Error::NoSuchEdge { a: a.0, b: b.0 });
             }
             check_sharpness(|| format!("edge {a}-{b}"), s)?;
@@ -129,6 +151,35 @@ impl PolyMesh {
             }
         }
         Ok(())
+    }
+
+    /// Sets the sharpness of those of the given vertex pairs that are edges, all or nothing,
+    /// and returns how many pairs are no side of any face (a host's loose edges, which
+    /// [`PolyMesh::set_edge_sharpnesses`] refuses). Values as there: finite and ≥ 0.
+    pub fn set_sharpness_of_existing_edges<I>(&mut self, values: I) -> Result<u32>
+    where
+        I: IntoIterator<Item = (VertexId, VertexId, f64)>,
+    {
+        let values: Vec<_> = values.into_iter().collect();
+        for &(a, b, s) in &values {
+            check_sharpness(|| format!("edge {a}-{b}"), s)?;
+        }
+        let mut keys: Vec<(u32, u32)> = values.iter().map(|&(a, b, _)| edge_key(a, b)).collect();
+        keys.sort_unstable();
+        keys.dedup();
+        let found = self.find_edges(&keys);
+        let mut skipped = 0;
+        for (a, b, s) in values {
+            let key = edge_key(a, b);
+            if !found[keys.binary_search(&key).expect("every key")] {
+                skipped += 1;
+            } else if s > 0.0 {
+                self.attributes.edge_sharpness.insert(key, s);
+            } else {
+                self.attributes.edge_sharpness.remove(&key);
+            }
+        }
+        Ok(skipped)
     }
 
     /// Makes every edge smooth.

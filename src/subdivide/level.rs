@@ -64,13 +64,44 @@ impl Level {
         self.loop_offsets[l] as usize..self.loop_offsets[l + 1] as usize
     }
 
-    /// Level 0 from a validated mesh. Faces with holes are kept whole (their loop edges
-    /// become infinitely sharp, seed 001 §3.2 method [b]); method [a] has bridged the others
-    /// before this.
-    pub fn from_mesh(mesh: &PolyMesh, options: &SubdivideOptions) -> Result<Level> {
-        let nv = mesh.vertex_count() as usize;
+    /// Level 0 from a validated mesh, and the user's sharpness of each of its edges (empty
+    /// when the mesh has none; level 0 itself keeps only what the topology does not force).
+    /// Faces with holes are kept whole (their loop edges become infinitely sharp, seed 001
+    /// §3.2 method [b]); method [a] has bridged the others before this.
+    pub fn from_mesh(mesh: &PolyMesh, options: &SubdivideOptions) -> Result<(Level, Vec<f32>)> {
         let corners: Vec<u32> = mesh.corners().iter().map(|v| v.0).collect();
-        let loop_offsets = mesh.loop_offsets().to_vec();
+        let vertex_sharpness: Vec<f32> = mesh
+            .vertex_sharpness()
+            .iter()
+            .map(|&s| (s as f32).min(INFINITE))
+            .collect();
+        Ok(Level::from_corners(
+            mesh.vertex_count() as usize,
+            mesh.face_loop_offsets().to_vec(),
+            mesh.loop_offsets().to_vec(),
+            corners,
+            Creases::Pairs(&mut mesh.sharp_edges().map(|(a, b, s)| (a.0, b.0, s))),
+            vertex_sharpness,
+            options.boundary,
+        ))
+    }
+
+    /// Level 0 from flat arrays known to be valid (every loop at least three distinct
+    /// vertices below `nv`): `face_loops` and `loop_offsets` as [`PolyMesh`]'s, the user's
+    /// edge `creases` and `vertex_sharpness` (one per vertex, already clamped to
+    /// [`INFINITE`]). Faces with more than one loop are kept whole, as in
+    /// [`Level::from_mesh`]. Returns the level and, for `Creases::Pairs`, the user's
+    /// sharpness per edge (empty when no pair is an edge).
+    pub fn from_corners(
+        nv: usize,
+        face_loops: Vec<u32>,
+        loop_offsets: Vec<u32>,
+        corners: Vec<u32>,
+        creases: Creases<'_>,
+        mut vertex_sharpness: Vec<f32>,
+        boundary: BoundaryInterpolation,
+    ) -> (Level, Vec<f32>) {
+        debug_assert_eq!(vertex_sharpness.len(), nv);
         let n = corners.len();
         // Next and previous vertex of each corner in its loop; beside them, corners counted
         // per vertex.
@@ -167,25 +198,42 @@ impl Level {
             .iter()
             .map(|&f| if f { INFINITE } else { 0.0 })
             .collect();
-        let find_edge = |a: u32, b: u32| -> Option<u32> {
-            bucket(a)
-                .iter()
-                .find(|c| c[1] == b)
-                .or_else(|| bucket(b).iter().find(|c| c[1] == a))
-                .map(|c| corner_edges[c[0] as usize])
-        };
-        for (a, b, s) in mesh.sharp_edges() {
-            if let Some(e) = find_edge(a.0, b.0) {
-                let e = e as usize;
-                if !edge_forced[e] {
-                    edge_sharpness[e] = (s as f32).min(INFINITE);
+        let mut user_edges = Vec::new();
+        match creases {
+            Creases::Pairs(pairs) => {
+                let find_edge = |a: u32, b: u32| -> Option<u32> {
+                    bucket(a)
+                        .iter()
+                        .find(|c| c[1] == b)
+                        .or_else(|| bucket(b).iter().find(|c| c[1] == a))
+                        .map(|c| corner_edges[c[0] as usize])
+                };
+                for (a, b, s) in pairs {
+                    if let Some(e) = find_edge(a, b) {
+                        let (e, s) = (e as usize, (s as f32).min(INFINITE));
+                        if user_edges.is_empty() {
+                            user_edges = vec![0.0; ne];
+                        }
+                        user_edges[e] = s;
+                        if !edge_forced[e] {
+                            edge_sharpness[e] = s;
+                        }
+                    }
+                }
+            }
+            Creases::PerCorner(values) => {
+                debug_assert!(values.is_empty() || values.len() == n);
+                for (k, &s) in values.iter().enumerate() {
+                    let e = corner_edges[k] as usize;
+                    if s > 0.0 && !edge_forced[e] {
+                        edge_sharpness[e] = s.min(INFINITE);
+                    }
                 }
             }
         }
 
         // Faces kept whole: their loop edges become infinitely sharp.
-        let face_count = mesh.face_count() as usize;
-        let face_loops = mesh.face_loop_offsets().to_vec();
+        let face_count = face_loops.len() - 1;
         let mut face_kept = vec![false; face_count];
         // Only faces with holes are kept: none when there are as many loops as faces.
         let any_holes = loop_offsets.len() - 1 > face_count;
@@ -200,13 +248,8 @@ impl Level {
         }
 
         // Vertices: user sharpness; pinned where the topology says corner.
-        let mut vertex_sharpness: Vec<f32> = mesh
-            .vertex_sharpness()
-            .iter()
-            .map(|&s| (s as f32).min(INFINITE))
-            .collect();
         let mut vertex_forced = vec![false; nv];
-        if options.boundary == BoundaryInterpolation::EdgeAndCorner {
+        if boundary == BoundaryInterpolation::EdgeAndCorner {
             // A boundary vertex with a single face is a corner.
             for v in 0..nv as u32 {
                 let b = bucket(v);
@@ -228,7 +271,7 @@ impl Level {
         }
         debug_assert_eq!(edge_sharpness.len(), ne);
         let any_vertex_sharp = vertex_sharpness.iter().any(|&s| s > 0.0);
-        Ok(Level {
+        let level = Level {
             any_vertex_sharp,
             vertex_count: nv as u32,
             face_loops: face_loops.into(),
@@ -247,8 +290,19 @@ impl Level {
             },
             face_origin: (0..face_count as u32).collect::<Vec<_>>().into(),
             last_creases: Vec::new(),
-        })
+        };
+        (level, user_edges)
     }
+}
+
+/// The user's edge sharpness given to [`Level::from_corners`].
+pub(crate) enum Creases<'a> {
+    /// `(a, b, sharpness)` for edges between vertices `a` and `b`; pairs that are no edge
+    /// are ignored.
+    Pairs(&'a mut dyn Iterator<Item = (u32, u32, f64)>),
+    /// One value per corner: the sharpness of the edge from it to the next corner of its loop
+    /// (empty: none).
+    PerCorner(&'a [f32]),
 }
 
 /// Whether the corners at one vertex (`at_v`: corner, next vertex, previous vertex) form one

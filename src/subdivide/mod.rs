@@ -19,6 +19,7 @@ mod primvar;
 mod refine;
 mod refiner;
 pub mod regions;
+mod subdivision;
 
 pub use face_varying::FaceVarying;
 pub use features::{feature_edges, tag_feature_edges};
@@ -26,6 +27,7 @@ pub use options::{BoundaryInterpolation, CreaseMethod, HoleMethod, SubdivideOpti
 pub use primvar::{Primvar, SparseRow};
 pub use refiner::{Refiner, Stencils};
 pub use regions::{merge_coplanar_regions, MergeOptions, Merged};
+pub use subdivision::{Edges, Subdivision};
 
 use crate::error::Result;
 use crate::mesh::{FaceId, PolyMesh};
@@ -72,7 +74,12 @@ pub fn catmull_clark_with_progress(
 ) -> Result<Subdivided> {
     let (refiner, positions) = Refiner::with_positions(mesh, options, progress)?;
     let report = refiner.report().clone();
-    let (mesh, face_origin) = refiner.into_parts(positions);
+    let (mut mesh, mut face_origin) = refiner.into_parts(positions);
+    if options.split_faces_with_holes && mesh.loop_count() != mesh.face_count() {
+        let (split, origin) = crate::mesh::holes::split_faces_with_holes(&mesh)?;
+        face_origin = origin.iter().map(|f| face_origin[f.idx()]).collect();
+        mesh = split;
+    }
     Ok(Subdivided {
         mesh,
         face_origin,

@@ -55,9 +55,10 @@ pub struct SubdivideOptions {
     /// Tag edges whose dihedral angle exceeds this many degrees as infinitely sharp
     /// ([`super::tag_feature_edges`]), for CAD meshes. Default value: `None` (off).
     pub feature_angle: Option<f64>,
-    /// The faces with holes were checked already (the UV topology of a checked mesh, whose
-    /// positions are placeholders): the geometric checks are skipped.
-    pub(crate) holes_checked: bool,
+    /// Cut the result's faces with holes (method `[b]`'s, and faces method `[a]` could not
+    /// bridge) into simple polygons along bridge edges, for formats and hosts that store no
+    /// faces with holes (Blender, MeshLab, OBJ). Default value: `false`.
+    pub split_faces_with_holes: bool,
 }
 
 impl Default for SubdivideOptions {
@@ -70,7 +71,7 @@ impl Default for SubdivideOptions {
             recover_faces_with_holes: false,
             merge: MergeOptions::default(),
             feature_angle: None,
-            holes_checked: false,
+            split_faces_with_holes: false,
         }
     }
 }

@@ -26,6 +26,17 @@ pub(crate) struct Prepared {
 }
 
 impl Prepared {
+    /// Level 0 is the input itself, with no maps.
+    pub fn identity() -> Prepared {
+        Prepared {
+            mesh: None,
+            vertex_origin: None,
+            face_origin: None,
+            corner_origin: None,
+            face_points: Vec::new(),
+        }
+    }
+
     pub fn mesh<'a>(&'a self, input: &'a PolyMesh) -> &'a PolyMesh {
         self.mesh.as_ref().unwrap_or(input)
     }
@@ -78,9 +89,7 @@ pub(crate) fn prepare(
     }
     let mesh = p.mesh(input);
     if mesh.faces().any(|f| mesh.face_loop_count(f) > 1) {
-        if !options.holes_checked {
-            validate_faces_with_holes(mesh)?;
-        }
+        validate_faces_with_holes(mesh)?;
         if options.holes == HoleMethod::Smooth {
             bridge(&mut p, input, report)?;
         }

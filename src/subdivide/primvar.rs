@@ -57,14 +57,19 @@ impl Primvar for DVec3 {
 }
 
 impl<const N: usize> Primvar for [f64; N] {
+    #[inline]
     fn zero() -> Self {
         [0.0; N]
     }
     #[inline]
     fn add_scaled(&mut self, other: &Self, w: f64) {
-        for (a, b) in self.iter_mut().zip(other) {
-            *a += w * b;
+        for i in 0..N {
+            self[i] += w * other[i];
         }
+    }
+    #[inline]
+    fn scaled(&self, w: f64) -> Self {
+        std::array::from_fn(|i| w * self[i])
     }
 }
 

@@ -617,3 +617,151 @@ pub(crate) fn child_level(parent: &Level, step: &Step, last: bool) -> Level {
     }
     child
 }
+
+/// The edges of a last level built without them ([`child_level`] with `last`), as
+/// [`child_level`] numbers them for the levels before: the face-interior edges (one per
+/// parent corner, from the face point to the edge point), then the two halves of each parent
+/// edge. Returns each child corner's edge (the edge to the next corner of its face) and each
+/// edge's two vertices. Only for parents whose faces all split (no face kept whole): the
+/// child faces are then the quads [`child_level`] writes by index.
+pub(crate) fn child_edges(parent: &Level, step: &Step) -> (Vec<u32>, Vec<[u32; 2]>) {
+    let (corners, edges) = child_edge_counts(parent, step);
+    let mut corner_edges: Vec<u32> = mem::filled(corners, 0u32);
+    let mut edge_verts: Vec<[u32; 2]> = mem::filled(edges, [0u32; 2]);
+    child_edges_into(parent, step, Some(&mut corner_edges), Some(&mut edge_verts));
+    (corner_edges, edge_verts)
+}
+
+/// The numbers of corners and edges of the last level [`child_edges`] describes.
+pub(crate) fn child_edge_counts(parent: &Level, step: &Step) -> (usize, usize) {
+    let n = step.interior_edges;
+    (4 * n, n + 2 * parent.edge_count() as usize)
+}
+
+/// [`child_edges`] written into the caller's arrays (of the lengths
+/// [`child_edge_counts`] gives), either of which may be left out.
+pub(crate) fn child_edges_into(
+    parent: &Level,
+    step: &Step,
+    corner_edges: Option<&mut [u32]>,
+    edge_verts: Option<&mut [[u32; 2]]>,
+) {
+    debug_assert!(parent.face_kept.is_empty());
+    let nv = parent.vertex_count;
+    let n = step.interior_edges;
+    let face_points = step.refined as u32;
+    let fv = |f: usize| nv + step.face_child[f];
+    let ev = |e: u32| nv + face_points + e;
+    let half = |e: u32, v: u32| {
+        (n + 2 * e as usize) as u32 + (parent.edge_verts[e as usize][0] != v) as u32
+    };
+    let nf = parent.face_count() as usize;
+    let (interior, halves) = match edge_verts {
+        Some(ev) => {
+            let (i, h) = ev.split_at_mut(n);
+            (Some(i), Some(h))
+        }
+        None => (None, None),
+    };
+    let chunk = 8192;
+    let mut jobs = Vec::with_capacity(nf / chunk + 1);
+    let mut edges_rest = corner_edges;
+    let mut inner_rest = interior;
+    for f0 in (0..nf).step_by(chunk) {
+        let f1 = (f0 + chunk).min(nf);
+        let (c0, c1) = (
+            parent.face_corners(f0).start,
+            parent.face_corners(f1 - 1).end,
+        );
+        let k = c1 - c0;
+        let e = edges_rest.take().map(|r| {
+            let (a, b) = r.split_at_mut(4 * k);
+            edges_rest = Some(b);
+            a
+        });
+        let i = inner_rest.take().map(|r| {
+            let (a, b) = r.split_at_mut(k);
+            inner_rest = Some(b);
+            a
+        });
+        jobs.push((f0..f1, c0, e, i));
+    }
+    rayon::join(
+        || {
+            jobs.into_par_iter()
+                .for_each(|(faces, c0, mut edges, mut inner)| {
+                    for f in faces {
+                        let cs = parent.face_corners(f);
+                        let k = cs.len();
+                        for (j, c) in cs.clone().enumerate() {
+                            let prev = if c == cs.start { cs.end - 1 } else { c - 1 };
+                            let v = parent.corner_verts[c];
+                            let (e, ep) = (parent.corner_edges[c], parent.corner_edges[prev]);
+                            if let Some(edges) = edges.as_deref_mut() {
+                                let q = 4 * (c - c0);
+                                // As child_level: a quad's children rotated so child j has
+                                // its parent corner at position j.
+                                let r = if k == 4 { j } else { 0 };
+                                let quad = [
+                                    half(e, v),
+                                    c as u32,
+                                    (cs.start + (j + k - 1) % k) as u32,
+                                    half(ep, v),
+                                ];
+                                for (t, x) in quad.into_iter().enumerate() {
+                                    edges[q + (t + r) % 4] = x;
+                                }
+                            }
+                            if let Some(inner) = inner.as_deref_mut() {
+                                inner[c - c0] = [fv(f), ev(e)];
+                            }
+                        }
+                    }
+                })
+        },
+        || {
+            if let Some(halves) = halves {
+                halves
+                    .par_chunks_mut(2)
+                    .with_min_len(4096)
+                    .zip(parent.edge_verts.par_iter())
+                    .enumerate()
+                    .for_each(|(e, (h, &[a, b]))| {
+                        let m = ev(e as u32);
+                        h.copy_from_slice(&[[m, a], [m, b]]);
+                    })
+            }
+        },
+    );
+}
+
+/// The sharpness left on each edge of a last level numbered as [`child_edges`] numbers them:
+/// the user's creases not yet spent (topology's forced creases are not the user's), 0
+/// elsewhere.
+pub(crate) fn child_edge_sharpness(parent: &Level, step: &Step) -> Vec<f32> {
+    let mut out: Vec<f32> = mem::filled(child_edge_counts(parent, step).1, 0.0f32);
+    for_each_child_edge_sharpness(parent, step, |e, s| out[e] = s);
+    out
+}
+
+/// Calls `f(edge, sharpness)` for each edge of [`child_edge_sharpness`] with sharpness left.
+pub(crate) fn for_each_child_edge_sharpness(
+    parent: &Level,
+    step: &Step,
+    mut f: impl FnMut(usize, f32),
+) {
+    if step.masks.is_empty() {
+        return;
+    }
+    let n = step.interior_edges;
+    for e in 0..parent.edge_count() as usize {
+        if parent.edge_forced[e] {
+            continue;
+        }
+        for (end, &s) in step.child_sharpness[e].iter().enumerate() {
+            if crease::is_sharp(s) {
+                f(n + 2 * e + end, s);
+            }
+        }
+    }
+}

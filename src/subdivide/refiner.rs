@@ -25,10 +25,34 @@ pub struct Refiner {
     steps: Vec<Step>,
     options: SubdivideOptions,
     report: SubdivideReport,
-    /// Level 0's mesh and its maps to the caller's mesh.
+    /// Level 0's maps to the caller's mesh.
     prepared: Prepared,
-    input_vertices: u32,
-    input_corners: u32,
+    input: Input,
+}
+
+/// What a [`Refiner`] keeps of its input: counts for checking callers' data, and level 0's
+/// user sharpness (which level 0 itself overrides where the topology forces a crease) for
+/// face-varying topologies, which have their own boundaries.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct Input {
+    pub vertices: u32,
+    pub faces: u32,
+    pub corners: u32,
+    /// Per level-0 edge; empty when no edge has sharpness.
+    pub user_edge_sharpness: Vec<f32>,
+    /// Per level-0 vertex; `None` when no vertex has sharpness.
+    pub user_vertex_sharpness: Option<Vec<f32>>,
+}
+
+/// Rejects 0 levels and more than 8 (the face count grows 4× per level).
+fn check_levels(levels: u32) -> Result<()> {
+    if levels == 0 || levels > 8 {
+        return Err(Error::InvalidOption {
+            option: "levels",
+            message: format!("{levels} is outside 1..=8"),
+        });
+    }
+    Ok(())
 }
 
 /// The subdivision as a sparse matrix: row `i` gives output vertex `i` as a weighted sum of
@@ -97,29 +121,53 @@ impl Refiner {
         progress: &mut dyn FnMut(u32, u32),
     ) -> Result<(Refiner, Vec<DVec3>)> {
         mesh.require_faces("subdivision")?;
-        if options.levels == 0 || options.levels > 8 {
-            return Err(Error::InvalidOption {
-                option: "levels",
-                message: format!("{} is outside 1..=8", options.levels),
-            });
-        }
+        check_levels(options.levels)?;
         let mut report = SubdivideReport::default();
         let prepared = prepare(mesh, options, &mut report)?;
         let m0 = prepared.mesh(mesh);
-        let mut levels = vec![Level::from_mesh(m0, options)?];
+        let (level0, user_edge_sharpness) = Level::from_mesh(m0, options)?;
+        let user_vertex_sharpness = m0
+            .vertex_sharpness()
+            .iter()
+            .any(|&s| s > 0.0)
+            .then(|| m0.vertex_sharpness().iter().map(|&s| s as f32).collect());
+        let pos: Option<Buf<DVec3>> = positions.map(|p| match &prepared.vertex_origin {
+            None => p.to_vec().into(),
+            Some(o) => o.iter().map(|&v| p[v as usize]).collect::<Vec<_>>().into(),
+        });
+        let input = Input {
+            vertices: mesh.vertex_count(),
+            faces: mesh.face_count(),
+            corners: mesh.corner_count(),
+            user_edge_sharpness,
+            user_vertex_sharpness,
+        };
+        let (refiner, positions) =
+            Self::from_level0(level0, prepared, input, options, report, pos, progress);
+        Ok((refiner, positions.unwrap_or_default()))
+    }
+
+    /// The hierarchy over a level 0 already built (and its maps to the caller's mesh);
+    /// `values` given are interpolated beside the topology, as in [`Refiner::build`].
+    pub(crate) fn from_level0<T: Primvar>(
+        level0: Level,
+        prepared: Prepared,
+        input: Input,
+        options: &SubdivideOptions,
+        report: SubdivideReport,
+        mut values: Option<Buf<T>>,
+        progress: &mut dyn FnMut(u32, u32),
+    ) -> (Refiner, Option<Vec<T>>) {
+        let mut levels = vec![level0];
         let mut steps = vec![refine::plan(
             &levels[0],
             options.crease_method,
             prepared.face_points.clone(),
         )];
-        let mut pos: Option<Buf<DVec3>> = positions.map(|p| match &prepared.vertex_origin {
-            None => p.to_vec().into(),
-            Some(o) => o.iter().map(|&v| p[v as usize]).collect::<Vec<_>>().into(),
-        });
         for l in 0..options.levels as usize {
             let last = l + 1 == options.levels as usize;
             let (parent, step) = (&levels[l], &steps[l]);
-            let ((child, child_step), child_pos) = rayon::join(
+            let ((child, child_step), child_values) = rayon::join(
                 || {
                     let child = refine::child_level(parent, step, last);
                     let s =
@@ -127,7 +175,8 @@ impl Refiner {
                     (child, s)
                 },
                 || {
-                    pos.as_deref()
+                    values
+                        .as_deref()
                         .map(|p| refine::interpolate(parent, step, p, last))
                 },
             );
@@ -135,7 +184,7 @@ impl Refiner {
             if let Some(s) = child_step {
                 steps.push(s);
             }
-            pos = child_pos;
+            values = child_values;
             progress(l as u32 + 1, options.levels);
         }
         let refiner = Refiner {
@@ -144,10 +193,9 @@ impl Refiner {
             options: options.clone(),
             report,
             prepared,
-            input_vertices: mesh.vertex_count(),
-            input_corners: mesh.corner_count(),
+            input,
         };
-        Ok((refiner, pos.map(Buf::into_vec).unwrap_or_default()))
+        (refiner, values.map(Buf::into_vec))
     }
 
     /// Number of levels.
@@ -185,12 +233,22 @@ impl Refiner {
 
     /// Number of face corners of the input mesh (face-varying indices expected).
     pub fn input_corner_count(&self) -> u32 {
-        self.input_corners
+        self.input.corners
     }
 
-    /// Level 0's mesh: the input, or what recovery, feature tagging and bridging made of it.
-    pub(crate) fn level0_mesh<'a>(&'a self, input: &'a PolyMesh) -> &'a PolyMesh {
-        self.prepared.mesh(input)
+    /// Number of vertices of the input mesh.
+    pub fn input_vertex_count(&self) -> u32 {
+        self.input.vertices
+    }
+
+    /// Number of faces of the input mesh.
+    pub fn input_face_count(&self) -> u32 {
+        self.input.faces
+    }
+
+    /// What the refiner keeps of its input.
+    pub(crate) fn input(&self) -> &Input {
+        &self.input
     }
 
     /// Input corner of each level-0 corner (`None`: the identity).
@@ -201,11 +259,11 @@ impl Refiner {
     /// Interpolates per-input-vertex data (positions, colours, weights) to the output
     /// vertices with the subdivision rules (OpenSubdiv's "vertex" interpolation).
     pub fn refine_vertex_data<T: Primvar>(&self, values: &[T]) -> Result<Vec<T>> {
-        if values.len() != self.input_vertices as usize {
+        if values.len() != self.input.vertices as usize {
             return Err(Error::AttributeLength {
                 attribute: "vertex data",
                 per: "input vertex",
-                expected: self.input_vertices as usize,
+                expected: self.input.vertices as usize,
                 got: values.len(),
             });
         }
@@ -239,7 +297,7 @@ impl Refiner {
 
     /// The stencil matrix from input vertices to output vertices.
     pub fn stencils(&self) -> Stencils {
-        let identity: Vec<SparseRow> = (0..self.input_vertices)
+        let identity: Vec<SparseRow> = (0..self.input.vertices)
             .map(|v| SparseRow(vec![(v, 1.0)]))
             .collect();
         let rows = self.interpolate_with_progress(&identity, &mut |_, _| {});
@@ -264,17 +322,27 @@ impl Refiner {
     /// in the output mesh's corner order.
     pub fn refine_face_varying<T: Primvar>(
         &self,
-        mesh: &PolyMesh,
         values: &[T],
         indices: &[u32],
         mode: FaceVarying,
     ) -> Result<Vec<T>> {
-        face_varying::refine(self, mesh, values, indices, mode)
+        face_varying::refine(self, values, indices, mode)
     }
 
-    /// The level-0 and last levels, for face-varying refinement.
+    /// Level `l` (0 to [`Refiner::levels`]).
     pub(crate) fn level(&self, l: usize) -> &Level {
         &self.levels[l]
+    }
+
+    /// The refinement of level `l` into level `l + 1`.
+    pub(crate) fn step(&self, l: usize) -> &Step {
+        &self.steps[l]
+    }
+
+    /// The last level's corner vertices, consuming the refiner.
+    pub(crate) fn into_last_corners(mut self) -> Vec<u32> {
+        let last = self.levels.pop().expect("a refiner has levels");
+        last.corner_verts.into_vec()
     }
 
     /// The output mesh with the given positions (one per output vertex, all finite), carrying

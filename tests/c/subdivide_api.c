@@ -35,9 +35,12 @@ static void test_cube(void)
               o.crease_method == KATACHI_CREASE_METHOD_UNIFORM);
     CHECK_OK("subdivide the cube", katachi_subdivide(cube, &o, &s));
     CHECK_OK("info", katachi_subdivision_info(s, &info));
-    CHECK("26 vertices, 24 faces, 96 corners",
-          info.vertex_count == 26 && info.face_count == 24 && info.corner_count == 96);
-    CHECK("input counts", info.input_vertex_count == 8 && info.input_corner_count == 24);
+    CHECK("26 vertices, 24 faces, 96 corners, 48 edges",
+          info.vertex_count == 26 && info.face_count == 24 && info.corner_count == 96 &&
+              info.loop_count == 24 && info.edge_count == 48);
+    CHECK("input counts", info.input_vertex_count == 8 && info.input_corner_count == 24 &&
+                              info.input_face_count == 6);
+    CHECK("no creases left", info.sharp_edge_count == 0 && info.sharp_vertex_count == 0);
     CHECK("no fallback", info.fallback_face_count == 0);
     CHECK_OK("result mesh", katachi_subdivision_mesh(s, &out));
     CHECK_OK("counts", katachi_mesh_counts(out, &counts));
@@ -113,15 +116,21 @@ static void test_cube(void)
     }
     {
         /* Stencils: applying them to the input positions gives the result positions. */
+        uint32_t entries = 0;
         uint32_t *offsets = malloc(27 * sizeof *offsets);
-        uint32_t *sources = malloc(info.stencil_entry_count * sizeof *sources);
-        double *weights = malloc(info.stencil_entry_count * sizeof *weights);
+        uint32_t *sources;
+        double *weights;
         int same = 1;
-        CHECK("stencils have entries", info.stencil_entry_count >= 26);
+        CHECK_OK("stencil entry count", katachi_subdivision_stencil_entry_count(s, &entries));
+        CHECK("stencils have entries", entries >= 26);
+        CHECK_ERR("stencil entry count: NULL out",
+                  katachi_subdivision_stencil_entry_count(s, NULL), KATACHI_STATUS_NULL_POINTER,
+                  "count");
+        sources = malloc(entries * sizeof *sources);
+        weights = malloc(entries * sizeof *weights);
         CHECK_OK("copy stencils",
-                 katachi_subdivision_copy_stencils(s, offsets, 27, sources,
-                                                   info.stencil_entry_count, weights,
-                                                   info.stencil_entry_count));
+                 katachi_subdivision_copy_stencils(s, offsets, 27, sources, entries, weights,
+                                                   entries));
         for (i = 0; i < 26; i++) {
             double x = 0;
             uint32_t k;
@@ -132,9 +141,8 @@ static void test_cube(void)
         }
         CHECK("stencils reproduce the positions", same);
         CHECK_ERR("short stencil buffer",
-                  katachi_subdivision_copy_stencils(s, offsets, 3, sources,
-                                                    info.stencil_entry_count, weights,
-                                                    info.stencil_entry_count),
+                  katachi_subdivision_copy_stencils(s, offsets, 3, sources, entries, weights,
+                                                    entries),
                   KATACHI_STATUS_BUFFER_TOO_SMALL, "offsets");
         free(offsets);
         free(sources);
@@ -289,6 +297,253 @@ static void test_recovery_and_features(void)
     katachi_mesh_free(cube);
 }
 
+/* The cube as a host stores it (Blender): float positions, faces by their first corner. */
+static const float CUBE_F32[8 * 3] = {
+    -0.5f, -0.5f, -0.5f, 0.5f, -0.5f, -0.5f, -0.5f, 0.5f, -0.5f, 0.5f, 0.5f, -0.5f,
+    -0.5f, -0.5f, 0.5f,  0.5f, -0.5f, 0.5f,  -0.5f, 0.5f, 0.5f,  0.5f, 0.5f, 0.5f,
+};
+
+/* A host's read-out: a mesh from a host's arrays (faces stored out of order too), creases
+ * from a host's edge list, the result copied as arrays (positions as floats, polygons,
+ * edges with their creases, face data carried, UVs per corner welded by katachi). */
+static void test_host_arrays(void)
+{
+    uint32_t starts[6], starts_scattered[6], sizes[6], scattered[24];
+    KatachiMesh *m = NULL, *m2 = NULL, *bad = NULL;
+    KatachiSubdivideOptions o = katachi_subdivide_options_default();
+    KatachiSubdivision *s = NULL, *s2 = NULL;
+    KatachiSubdivisionInfo info = katachi_subdivision_info_default();
+    /* The 12 cube edges (a host's list) plus one loose edge 0-7; one crease 1.0 (0-1), one
+     * 0.5 (2-3), the loose one creased too. */
+    const uint32_t edges[13 * 2] = {0, 1, 1, 3, 3, 2, 2, 0, 4, 5, 5, 7,
+                                    7, 6, 6, 4, 0, 4, 1, 5, 2, 6, 3, 7, 0, 7};
+    float creases[13] = {1.0f, 0, 0.5f, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0.25f};
+    uint32_t ignored = 99;
+    float uv[24 * 2], uv_scattered[24 * 2], out_uv[96 * 2], out_uv2[96 * 2];
+    float pos[26 * 3], crease_out[64];
+    uint32_t poly_starts[24], poly_sizes[24], poly_corners[96], edge_verts[96], corner_edges[96];
+    uint32_t materials[6] = {0, 1, 2, 3, 4, 5}, mat_out[24];
+    uint8_t smooth[6] = {1, 0, 1, 0, 1, 0}, smooth_out[24];
+    size_t i;
+    int ok;
+
+    for (i = 0; i < 6; i++) {
+        starts[i] = (uint32_t)(4 * i);
+        sizes[i] = 4;
+        /* Faces in reverse: face i's corners stored where face 5 - i's would be. */
+        starts_scattered[i] = (uint32_t)(4 * (5 - i));
+    }
+    for (i = 0; i < 24; i++) {
+        /* A UV per corner: the corner's position within its face, so seams everywhere. */
+        uv[2 * i] = (float)(i % 4 == 1 || i % 4 == 2);
+        uv[2 * i + 1] = (float)(i % 4 >= 2);
+    }
+    for (i = 0; i < 6; i++) {
+        size_t j;
+        for (j = 0; j < 4; j++) {
+            scattered[4 * (5 - i) + j] = CUBE_CORNERS[4 * i + j];
+            uv_scattered[2 * (4 * (5 - i) + j)] = uv[2 * (4 * i + j)];
+            uv_scattered[2 * (4 * (5 - i) + j) + 1] = uv[2 * (4 * i + j) + 1];
+        }
+    }
+    CHECK_OK("create from a host's arrays",
+             katachi_mesh_create_polygons_f32(CUBE_F32, 8, starts, NULL, 6, CUBE_CORNERS, 24, &m));
+    CHECK_OK("create from a host's scattered faces",
+             katachi_mesh_create_polygons_f32(CUBE_F32, 8, starts_scattered, sizes, 6, scattered,
+                                              24, &m2));
+    CHECK_ERR("starts must ascend without sizes",
+              katachi_mesh_create_polygons_f32(CUBE_F32, 8, starts_scattered, NULL, 6, scattered,
+                                               24, &bad),
+              KATACHI_STATUS_INVALID_ARGUMENT, "ascend");
+    sizes[2] = 5;
+    CHECK_ERR("sizes must add up",
+              katachi_mesh_create_polygons_f32(CUBE_F32, 8, starts, sizes, 6, CUBE_CORNERS, 24,
+                                               &bad),
+              KATACHI_STATUS_INVALID_ARGUMENT, "face");
+    sizes[2] = 4;
+    CHECK("out NULL after failures", bad == NULL);
+
+    CHECK_OK("creases from a host's edge list",
+             katachi_mesh_set_edge_sharpness_f32(m, edges, creases, 13, NULL, 0,
+                                                 KATACHI_SHARPNESS_SCALE_CREASE, &ignored));
+    CHECK("the loose creased edge is ignored and counted", ignored == 1);
+    {
+        /* The host's edge of each corner: the loose edge 12 is named by none. */
+        uint32_t corner_edges_in[24];
+        size_t c;
+        for (c = 0; c < 24; c++) {
+            uint32_t a = CUBE_CORNERS[c], b = CUBE_CORNERS[c % 4 == 3 ? c - 3 : c + 1], e;
+            for (e = 0; e < 12; e++) {
+                if ((edges[2 * e] == a && edges[2 * e + 1] == b) ||
+                    (edges[2 * e] == b && edges[2 * e + 1] == a))
+                    corner_edges_in[c] = e;
+            }
+        }
+        ignored = 99;
+        CHECK_OK("loose edges counted from the corners' edges",
+                 katachi_mesh_set_edge_sharpness_f32(m2, edges, NULL, 13, corner_edges_in, 24,
+                                                     KATACHI_SHARPNESS_SCALE_CREASE, &ignored));
+        CHECK("one loose edge", ignored == 1);
+        corner_edges_in[3] = 13;
+        CHECK_ERR("a corner's edge out of range",
+                  katachi_mesh_set_edge_sharpness_f32(m2, edges, NULL, 13, corner_edges_in, 24,
+                                                      KATACHI_SHARPNESS_SCALE_CREASE, NULL),
+                  KATACHI_STATUS_INVALID_ARGUMENT, "corner_edges[3]");
+    }
+    CHECK_OK("same creases on the scattered mesh",
+             katachi_mesh_set_edge_sharpness_f32(m2, edges, creases, 13, NULL, 0,
+                                                 KATACHI_SHARPNESS_SCALE_CREASE, NULL));
+    creases[4] = 1.5f;
+    CHECK_ERR("a crease above 1",
+              katachi_mesh_set_edge_sharpness_f32(m, edges, creases, 13, NULL, 0,
+                                                  KATACHI_SHARPNESS_SCALE_CREASE, NULL),
+              KATACHI_STATUS_BAD_INPUT, "values[4] (edge 4-5)");
+    CHECK_ERR("bad scale",
+              katachi_mesh_set_edge_sharpness_f32(m, edges, creases, 13, NULL, 0, 7, NULL),
+              KATACHI_STATUS_INVALID_ARGUMENT, "scale");
+    {
+        double sharp = -1;
+        CHECK_OK("crease 0.5 is sharpness 2.5", katachi_mesh_edge_sharpness(m, 2, 3, &sharp));
+        CHECK("crease 0.5 is sharpness 2.5", fabs(sharp - 2.5) < 1e-6);
+        CHECK_OK("crease 1 is sharpness 10", katachi_mesh_edge_sharpness(m, 1, 0, &sharp));
+        CHECK("crease 1 is sharpness 10", sharp == 10.0);
+    }
+    {
+        float vc[8] = {0, 0, 0, 0, 0, 0, 0, 1.0f};
+        double vs = 0;
+        CHECK_OK("vertex creases", katachi_mesh_set_vertex_sharpness_f32(
+                                       m, vc, 8, KATACHI_SHARPNESS_SCALE_CREASE));
+        CHECK_OK("vertex 7's sharpness", katachi_mesh_vertex_sharpness(m, 7, &vs));
+        CHECK("vertex crease 1 is sharpness 10", vs == 10.0);
+        CHECK_ERR("vertex creases: wrong count",
+                  katachi_mesh_set_vertex_sharpness_f32(m, vc, 7, KATACHI_SHARPNESS_SCALE_CREASE),
+                  KATACHI_STATUS_INVALID_ARGUMENT, "8 vertices");
+    }
+
+    CHECK_OK("subdivide", katachi_subdivide(m, &o, &s));
+    CHECK_OK("subdivide the scattered mesh", katachi_subdivide(m2, &o, &s2));
+    CHECK_OK("info", katachi_subdivision_info(s, &info));
+    CHECK("counts", info.vertex_count == 26 && info.face_count == 24 && info.edge_count == 48 &&
+                        info.input_face_count == 6);
+    CHECK("creases left: 0-1 (infinitely sharp) and 2-3 (2.5 -> 1.5), two halves each; vertex 7",
+          info.sharp_edge_count == 4 && info.sharp_vertex_count == 1);
+    CHECK_OK("positions as floats", katachi_subdivision_copy_positions_f32(s, pos, 26 * 3));
+    CHECK_ERR("positions: short", katachi_subdivision_copy_positions_f32(s, pos, 10),
+              KATACHI_STATUS_BUFFER_TOO_SMALL, "78");
+    CHECK_OK("polygons", katachi_subdivision_copy_polygons(s, poly_starts, 24, poly_sizes, 24,
+                                                           poly_corners, 96));
+    ok = 1;
+    for (i = 0; i < 24; i++) {
+        ok = ok && poly_starts[i] == 4 * i && poly_sizes[i] == 4;
+    }
+    CHECK("24 quads, one after the other", ok);
+    CHECK_OK("polygons: NULL buffers skipped",
+             katachi_subdivision_copy_polygons(s, NULL, 0, NULL, 0, poly_corners, 96));
+    CHECK_OK("edges", katachi_subdivision_copy_edges(s, edge_verts, 96, corner_edges, 96));
+    ok = 1;
+    for (i = 0; i < 96; i++) {
+        uint32_t e = corner_edges[i], next = (uint32_t)(i % 4 == 3 ? i - 3 : i + 1);
+        uint32_t a = poly_corners[i], b = poly_corners[next];
+        ok = ok && e < 48 &&
+             ((edge_verts[2 * e] == a && edge_verts[2 * e + 1] == b) ||
+              (edge_verts[2 * e] == b && edge_verts[2 * e + 1] == a));
+    }
+    CHECK("each corner's edge joins it to the next corner", ok);
+    CHECK_OK("edge creases", katachi_subdivision_copy_edge_sharpness_f32(
+                                 s, crease_out, 48, KATACHI_SHARPNESS_SCALE_CREASE));
+    {
+        int full = 0, half = 0, other = 0;
+        for (i = 0; i < 48; i++) {
+            if (crease_out[i] == 1.0f)
+                full++;
+            else if (fabsf(crease_out[i] - sqrtf(0.15f)) < 1e-6f)
+                half++;
+            else if (crease_out[i] != 0.0f)
+                other++;
+        }
+        CHECK("creases left as Blender creases: 1 (infinitely sharp) twice, sqrt(1.5/10) twice",
+              full == 2 && half == 2 && other == 0);
+    }
+    {
+        float vs[26];
+        CHECK_OK("vertex creases left", katachi_subdivision_copy_vertex_sharpness_f32(
+                                            s, vs, 26, KATACHI_SHARPNESS_SCALE_SHARPNESS));
+        CHECK("vertex 7 stays infinitely sharp", vs[7] == 10.0f && vs[0] == 0.0f);
+    }
+    CHECK_OK("carry materials", katachi_subdivision_carry_face_data(s, materials, 6, 4, mat_out, 24));
+    CHECK_OK("carry smooth flags", katachi_subdivision_carry_face_data(s, smooth, 6, 1, smooth_out, 24));
+    ok = 1;
+    for (i = 0; i < 24; i++) {
+        ok = ok && mat_out[i] == i / 4 && smooth_out[i] == smooth[i / 4];
+    }
+    CHECK("face data follow their faces", ok);
+    CHECK_ERR("carry: bad size", katachi_subdivision_carry_face_data(s, materials, 6, 3, mat_out, 24),
+              KATACHI_STATUS_INVALID_ARGUMENT, "value_size");
+    CHECK_ERR("carry: wrong count", katachi_subdivision_carry_face_data(s, materials, 5, 4, mat_out, 24),
+              KATACHI_STATUS_INVALID_ARGUMENT, "6 faces");
+    CHECK_ERR("carry: short output", katachi_subdivision_carry_face_data(s, materials, 6, 4, mat_out, 23),
+              KATACHI_STATUS_BUFFER_TOO_SMALL, "24");
+    CHECK_OK("UVs per corner", katachi_subdivision_refine_corner_data_f32(
+                                   s, uv, 48, 2, KATACHI_FACE_VARYING_LINEAR_BOUNDARIES, out_uv,
+                                   96 * 2));
+    CHECK_OK("UVs per corner, host's order", katachi_subdivision_refine_corner_data_f32(
+                                                 s2, uv_scattered, 48, 2,
+                                                 KATACHI_FACE_VARYING_LINEAR_BOUNDARIES, out_uv2,
+                                                 96 * 2));
+    ok = 1;
+    for (i = 0; i < 96 * 2; i++) {
+        ok = ok && out_uv[i] == out_uv2[i];
+    }
+    CHECK("the host's corner order is followed", ok);
+    CHECK("a face's own corners keep their UVs", out_uv[0] == 0.0f && out_uv[1] == 0.0f);
+    CHECK_ERR("UVs: wrong count", katachi_subdivision_refine_corner_data_f32(
+                                      s, uv, 47, 2, KATACHI_FACE_VARYING_SMOOTH, out_uv, 192),
+              KATACHI_STATUS_INVALID_ARGUMENT, "24 corners");
+    katachi_subdivision_free(s);
+    katachi_subdivision_free(s2);
+    katachi_mesh_free(m);
+    katachi_mesh_free(m2);
+}
+
+/* Faces with holes cut into simple polygons for hosts that store none. */
+static void test_split_faces_with_holes(void)
+{
+    KatachiMesh *plate = NULL;
+    KatachiSubdivideOptions o = katachi_subdivide_options_default();
+    KatachiSubdivision *s = NULL;
+    KatachiSubdivisionInfo info = katachi_subdivision_info_default();
+    uint32_t starts[1];
+    KatachiMesh *whole = NULL, *cut = NULL;
+    KatachiMeshCounts c = katachi_mesh_counts_default();
+    CHECK_OK("create the plate", katachi_mesh_create(PLATE_POSITIONS, 16, PLATE_LOOP_SIZES, 12,
+                                                     PLATE_FACE_LOOP_COUNTS, 10, PLATE_CORNERS,
+                                                     48, &plate));
+    o.holes = KATACHI_HOLE_METHOD_SHARP;
+    CHECK_OK("subdivide, faces with holes kept", katachi_subdivide(plate, &o, &s));
+    CHECK_OK("info", katachi_subdivision_info(s, &info));
+    CHECK("two faces with holes", info.loop_count == info.face_count + 2);
+    CHECK_ERR("no polygons while faces have holes",
+              katachi_subdivision_copy_polygons(s, starts, 1, NULL, 0, NULL, 0),
+              KATACHI_STATUS_INVALID_ARGUMENT, "split_faces_with_holes");
+    CHECK_OK("the whole result", katachi_subdivision_mesh(s, &whole));
+    CHECK_OK("cut it", katachi_mesh_split_faces_with_holes(whole, &cut, NULL, 0));
+    CHECK_OK("its counts", katachi_mesh_counts(cut, &c));
+    katachi_subdivision_free(s);
+    o.split_faces_with_holes = 1;
+    CHECK_OK("subdivide, faces with holes cut", katachi_subdivide(plate, &o, &s));
+    CHECK_OK("info", katachi_subdivision_info(s, &info));
+    CHECK("the faces with holes cut as katachi_mesh_split_faces_with_holes cuts them",
+          info.loop_count == info.face_count && info.face_count == c.face_count &&
+              info.face_count > 8 * 4 + 2 && info.corner_count == c.corner_count);
+    katachi_subdivision_free(s);
+    katachi_mesh_free(whole);
+    katachi_mesh_free(cut);
+    o.split_faces_with_holes = 2;
+    CHECK_ERR("bad split flag", katachi_subdivide(plate, &o, &s), KATACHI_STATUS_INVALID_ARGUMENT,
+              "split_faces_with_holes");
+    katachi_mesh_free(plate);
+}
+
 /* What the progress callback saw. */
 typedef struct {
     uint32_t calls, last_done, total, in_order;
@@ -356,5 +611,7 @@ int main(void)
     test_bad_input();
     test_recovery_and_features();
     test_progress();
+    test_host_arrays();
+    test_split_faces_with_holes();
     return check_finish();
 }

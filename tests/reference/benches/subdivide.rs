@@ -4,6 +4,11 @@
 //! own work only, not the freeing of their refiners); katachi is timed for the whole call,
 //! input to output mesh, not the freeing of that mesh. Both free their results between
 //! iterations.
+//!
+//! "katachi C ABI" is what a C caller does to get the result: `katachi_subdivide`, then the
+//! positions and faces copied into its own buffers (`katachi_subdivision_copy_positions`,
+//! `_copy_faces`), timed against the kernel call alone (`catmull_clark`, whose output mesh is
+//! the same arrays): the goal is at most 1.3× the kernel.
 //! Peak memory is measured per library in fresh processes (`peak_rss`) and printed.
 
 use std::time::{Duration, Instant};
@@ -43,6 +48,94 @@ fn timed(b: &mut criterion::Bencher, mesh: &PolyMesh, o: &SubdivideOptions) {
     )
 }
 
+/// The C caller's path: subdivide through the C ABI, copy positions and faces out, free the
+/// result (outside the clock, as the kernel's mesh is freed outside it).
+fn c_abi(b: &mut criterion::Bencher, mesh: Handle, levels: u32) {
+    use katachi::ffi::*;
+    let mesh = mesh.0.cast_const();
+    b.iter_custom(|iters| {
+        let mut total = Duration::ZERO;
+        for _ in 0..iters {
+            // SAFETY: `mesh` is a live handle; every buffer holds the counts given.
+            unsafe {
+                let t = Instant::now();
+                let mut o = katachi_subdivide_options_default();
+                o.levels = levels;
+                let mut s = std::ptr::null_mut();
+                assert_eq!(katachi_subdivide(mesh, &o, &mut s), KatachiStatus::Ok);
+                let mut info = katachi_subdivision_info_default();
+                assert_eq!(katachi_subdivision_info(s, &mut info), KatachiStatus::Ok);
+                let mut positions = vec![0.0f64; 3 * info.vertex_count as usize];
+                let mut loop_sizes = vec![0u32; info.loop_count as usize];
+                let mut face_loops = vec![0u32; info.face_count as usize];
+                let mut corners = vec![0u32; info.corner_count as usize];
+                assert_eq!(
+                    katachi_subdivision_copy_positions(s, positions.as_mut_ptr(), positions.len()),
+                    KatachiStatus::Ok
+                );
+                assert_eq!(
+                    katachi_subdivision_copy_faces(
+                        s,
+                        loop_sizes.as_mut_ptr(),
+                        loop_sizes.len(),
+                        face_loops.as_mut_ptr(),
+                        face_loops.len(),
+                        corners.as_mut_ptr(),
+                        corners.len(),
+                    ),
+                    KatachiStatus::Ok
+                );
+                total += t.elapsed();
+                katachi_subdivision_free(s);
+                drop((positions, loop_sizes, face_loops, corners));
+            }
+        }
+        total
+    })
+}
+
+/// A C mesh handle the benchmark only reads (katachi's meshes may be read from several
+/// threads at once: the header's promise).
+#[derive(Clone, Copy)]
+struct Handle(*mut katachi::ffi::KatachiMesh);
+// SAFETY: only read, never changed or freed while in use (see above).
+unsafe impl Send for Handle {}
+unsafe impl Sync for Handle {}
+
+/// `mesh` as a C handle.
+fn handle(mesh: &PolyMesh) -> Handle {
+    use katachi::ffi::*;
+    let positions: Vec<f64> = mesh.positions().iter().flat_map(|p| p.to_array()).collect();
+    let loop_sizes: Vec<u32> = mesh
+        .loop_offsets()
+        .windows(2)
+        .map(|w| w[1] - w[0])
+        .collect();
+    let face_loops: Vec<u32> = mesh
+        .face_loop_offsets()
+        .windows(2)
+        .map(|w| w[1] - w[0])
+        .collect();
+    let corners: Vec<u32> = mesh.corners().iter().map(|v| v.0).collect();
+    let mut out = std::ptr::null_mut();
+    // SAFETY: the arrays hold the counts given.
+    let status = unsafe {
+        katachi_mesh_create(
+            positions.as_ptr(),
+            mesh.vertex_count(),
+            loop_sizes.as_ptr(),
+            loop_sizes.len() as u32,
+            face_loops.as_ptr(),
+            face_loops.len() as u32,
+            corners.as_ptr(),
+            corners.len() as u32,
+            &mut out,
+        )
+    };
+    assert_eq!(status, KatachiStatus::Ok);
+    Handle(out)
+}
+
 fn models() -> Vec<(&'static str, String, PolyMesh)> {
     let mut v = vec![(
         "torus 200x160",
@@ -67,6 +160,7 @@ fn subdivide(c: &mut Criterion) {
         .unwrap();
     for (name, _, mesh) in models() {
         let rm = to_ref(&mesh);
+        let c_mesh = handle(&mesh);
         let mut g = c.benchmark_group(format!("catmull-clark {name}"));
         g.sample_size(10);
         g.warm_up_time(Duration::from_millis(500));
@@ -79,9 +173,19 @@ fn subdivide(c: &mut Criterion) {
                 |b, _| one_thread.install(|| timed(b, &mesh, &o)),
             );
             g.bench_with_input(
+                BenchmarkId::new("katachi C ABI 1 thread", level),
+                &level,
+                |b, &l| one_thread.install(|| c_abi(b, c_mesh, l)),
+            );
+            g.bench_with_input(
                 BenchmarkId::new("katachi all cores", level),
                 &level,
                 |b, _| timed(b, &mesh, &o),
+            );
+            g.bench_with_input(
+                BenchmarkId::new("katachi C ABI all cores", level),
+                &level,
+                |b, &l| c_abi(b, c_mesh, l),
             );
             g.bench_with_input(BenchmarkId::new("opensubdiv", level), &level, |b, &l| {
                 b.iter_custom(|iters| {
@@ -113,6 +217,8 @@ fn subdivide(c: &mut Criterion) {
             }
         }
         g.finish();
+        // SAFETY: made by `handle`, freed once.
+        unsafe { katachi::ffi::katachi_mesh_free(c_mesh.0) };
     }
 }
 

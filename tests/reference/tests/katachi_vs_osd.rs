@@ -383,9 +383,7 @@ fn face_varying_matches_opensubdiv() {
             for level in 1..=3 {
                 let refiner = Refiner::new(mesh, &SubdivideOptions::with_levels(level)).unwrap();
                 let uv2: Vec<glam_like::V2> = uv.iter().map(|p| glam_like::V2(*p)).collect();
-                let ours = refiner
-                    .refine_face_varying(mesh, &uv2, idx, ours_mode)
-                    .unwrap();
+                let ours = refiner.refine_face_varying(&uv2, idx, ours_mode).unwrap();
                 let osd_opts = r::OsdOptions {
                     fvar: osd_mode,
                     ..Default::default()

@@ -215,7 +215,7 @@ int main(int argc, char **argv) {
                      [&](MeshDocument &md) {
                          RichParameterList par = katachi.params(md);
                          par.setValue("levels", IntValue(levels));
-                         par.setValue("newLayer", BoolValue(false));
+                         par.setValue("new_layer", BoolValue(false));
                          return katachi.apply(md, par);
                      }},
                     {"host", [&](MeshDocument &md) {
@@ -250,9 +250,9 @@ int main(int argc, char **argv) {
                {{"katachi",
                  [&](MeshDocument &md) {
                      RichParameterList par = cut.params(md);
-                     par.setValue("shot", ShotfValue(shot));
+                     par.setValue("view", ShotfValue(shot));
                      par.setValue("stroke", StringValue(QString::fromStdString(stroke)));
-                     par.setValue("newLayer", BoolValue(true));
+                     par.setValue("new_layer", BoolValue(true));
                      return cut.apply(md, par);
                  }},
                 {"host", [&](MeshDocument &md) {

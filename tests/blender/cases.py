@@ -160,7 +160,11 @@ def subdivide(**options):
     edit = bpy.context.mode == "EDIT_MESH"
     for o in bpy.context.selected_objects:
         if o.type == "MESH" and not edit:
-            check(not o.data.copy().validate(verbose=True), f"{o.name}: Blender had to repair the result")
+            copy = o.data.copy()
+            try:
+                check(not copy.validate(verbose=True), f"{o.name}: Blender had to repair the result")
+            finally:
+                bpy.data.meshes.remove(copy)
 
 
 def expect_error(fragments, **options):

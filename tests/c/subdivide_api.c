@@ -48,6 +48,35 @@ static void test_cube(void)
     CHECK_OK("positions", katachi_mesh_copy_positions(out, pos, 26 * 3));
     /* Corner 7 = (0.5, 0.5, 0.5) goes to 5/9 of itself (seed 001 eq. (2)). */
     CHECK("corner vertex point is 5/9 (1/2, 1/2, 1/2)", fabs(pos[7 * 3] - 5.0 / 18.0) < 1e-15);
+    {
+        /* The same arrays copied straight from the subdivision, no mesh in between. */
+        double direct[26 * 3];
+        uint32_t sizes[24], loops[24], corners[96], mesh_sizes[24], mesh_loops[24],
+            mesh_corners[96];
+        int same = 1;
+        CHECK_OK("copy positions from the subdivision",
+                 katachi_subdivision_copy_positions(s, direct, 26 * 3));
+        CHECK_ERR("copy positions: short buffer",
+                  katachi_subdivision_copy_positions(s, direct, 77),
+                  KATACHI_STATUS_BUFFER_TOO_SMALL, "78");
+        CHECK_OK("copy faces from the subdivision",
+                 katachi_subdivision_copy_faces(s, sizes, 24, loops, 24, corners, 96));
+        CHECK_OK("copy faces from the mesh",
+                 katachi_mesh_copy_faces(out, mesh_sizes, 24, mesh_loops, 24, mesh_corners, 96));
+        for (i = 0; i < 26 * 3; i++) {
+            same = same && direct[i] == pos[i];
+        }
+        for (i = 0; i < 24; i++) {
+            same = same && sizes[i] == mesh_sizes[i] && loops[i] == mesh_loops[i];
+        }
+        for (i = 0; i < 96; i++) {
+            same = same && corners[i] == mesh_corners[i];
+        }
+        CHECK("the subdivision's copies are the result mesh's arrays", same);
+        CHECK_ERR("copy faces: short corner buffer",
+                  katachi_subdivision_copy_faces(s, sizes, 24, loops, 24, corners, 95),
+                  KATACHI_STATUS_BUFFER_TOO_SMALL, "corners");
+    }
     CHECK_OK("face origin", katachi_subdivision_copy_face_origin(s, origin, 24));
     for (i = 0; i < 24; i++) {
         origin_ok = origin_ok && origin[i] == i / 4;

@@ -542,6 +542,7 @@ fn the_parsers_see_everything() {
         [
             "KatachiCutInfo",
             "KatachiCutOptions",
+            "KatachiCutPolygonsInfo",
             "KatachiMeshCounts",
             "KatachiMeshInfo",
             "KatachiSubdivideOptions",

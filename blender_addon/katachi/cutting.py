@@ -1,31 +1,32 @@
 """Blender meshes through katachi's stroke cut (``katachi_cut_by_stroke``) and back.
 
-Nothing geometric happens here, as in ``convert.py``: the cut, the snapping of vertices onto
-the stroke and the interpolation of UVs are katachi's; this module copies data in bulk and
-keeps Blender's per-element data with the element it belongs to.
+Nothing geometric happens here, and nothing is done element by element over the mesh: the
+input's arrays are read whole (``convert.InputMesh``), katachi cuts them and gives the
+result in the input's own layout (``katachi_cut_polygons``): the arrays Blender stores, with
+every face's input face, every edge's input edge and every corner's input corner, so
+Blender's per-element data is carried by katachi in bulk and written with ``foreach_set``.
 
 How each kind of data follows the cut:
 
-- Vertices: katachi keeps input vertex ``v`` as result vertex ``v`` (maybe moved onto the
-  stroke), so vertex data stays where it was. New vertices follow; an opened cut's copies
-  of path vertices take their original's data (``katachi_cut_copy_vertex_original``),
-  other new vertices get no crease. Vertex group weights and shape keys (as offsets from
-  the mesh's own positions, so a key follows a vertex snapping moves) go through
-  ``katachi_cut_interpolate_vertex_data``: a new vertex gets the blend of the triangle it
-  was made in.
-- Faces: ``katachi_cut_copy_face_origin`` names the input face of every result triangle;
-  materials, smooth flags and face selection follow it. katachi cuts triangles, so n-gons
-  are triangulated; with ``keep_polygons`` a face the cut left whole (its triangles are
-  still the triangulation of the face, with its own corners and no cut path across it) is
-  given back as the polygon it was, with its own UVs.
-- Corners: UV maps through ``katachi_cut_interpolate_corner_data`` (all maps in one call).
-- Edges: katachi carries an edge attribute through the cut (an edge split in two gives both
-  halves its value). The add-on lends that attribute: it tags each edge of the input with
-  its Blender index + 1 (``katachi_mesh_set_edge_sharpnesses``) and reads the tags back from
-  the result (``katachi_mesh_copy_sharp_edges``), so every result edge lying on an input
-  edge knows it and takes its crease, bevel weight, seam, sharp and freestyle marks. Edges
-  the cut made inside a face (and triangulation diagonals) get none. Loose edges, which
-  katachi does not take, are put back as they were (their vertices keep their indices).
+- Vertices: input vertex ``v`` is result vertex ``v`` (maybe moved onto the stroke); new
+  vertices follow. Creases and hide flags are carried (an opened cut's copy of a vertex
+  takes its original's, other new vertices none); vertex group weights and shape keys (as
+  offsets from the mesh's own positions, so a key follows a vertex snapping moves) go
+  through ``katachi_cut_interpolate_vertex_data``: a new vertex gets the blend of the
+  triangle it was made in.
+- Faces keep their index; a face the cut left whole is given back as the polygon it was
+  (``keep_polygons``), a cut one as its triangles, appended after the input's faces.
+  Materials, smooth shading and hide flags follow the face each one came from.
+- Edges keep their index too (loose ones included); the pieces of a split edge, the copies
+  made by opening and the edges made inside faces are appended. Crease, bevel weight, seam,
+  sharp and freestyle marks follow the input edge each one lies on; edges made inside faces
+  get none. The cut paths' edges (both sides of an opened cut) and their vertices are the
+  only selected elements.
+- Corners: UV maps through ``katachi_cut_polygons_carry_corner_data_f32`` (a corner at an
+  input vertex keeps its UV, one at a new vertex gets the blend of its triangle's).
+
+With faces hidden in Edit mode, the new vertices and edges that only hidden faces use are
+hidden too (a pass over the faces in Python, only then).
 """
 
 import array
@@ -37,24 +38,24 @@ import bpy
 from . import ffi
 from .convert import (
     ATTRIBUTE_CREASES,
+    INDEX,
+    NEW_API,
     ConversionError,
+    InputMesh,
+    _any_nonzero,
     _bools,
-    _copy_faces,
-    _copy_positions,
+    _f32,
     _f64,
     _float_attribute,
     _u32,
-    _vertex_creases,
+    _void,
     _zeros,
-    add_faces,
     add_uv_map,
-    create_mesh,
     finish,
-    repair_selection_attributes,
     write_with_bmesh,
 )
 
-#: Per-edge data carried by the edge tags: RNA properties of ``MeshEdge`` (both versions).
+#: Per-edge data carried: RNA properties of ``MeshEdge`` (both versions).
 EDGE_FLAGS = ("use_seam", "use_edge_sharp")
 #: Per-edge float data: Blender 3.x ``MeshEdge`` properties, 4.0+ attributes.
 EDGE_FLOATS_3X = ("crease", "bevel_weight")
@@ -70,79 +71,44 @@ class CutSource:
 
     def __init__(self, mesh, vertex_groups=()):
         self.name = mesh.name
+        self.data = d = InputMesh(mesh)
         self.group_names = [(g.name, g.lock_weight) for g in vertex_groups]
-        nv, ne = len(mesh.vertices), len(mesh.edges)
-        nf, nl = len(mesh.polygons), len(mesh.loops)
+        nv, ne, nf = d.vertex_count, d.edge_count, d.face_count
         self.vertex_count, self.edge_count = nv, ne
-        self.face_count, self.corner_count = nf, nl
-
-        co = _zeros("f", 3 * nv)
-        mesh.vertices.foreach_get("co", co)
-        self.positions = array.array("d", co)
-
-        self.loop_starts = _zeros("I", nf)
-        self.loop_sizes = _zeros("I", nf)
-        mesh.polygons.foreach_get("loop_start", self.loop_starts)
-        mesh.polygons.foreach_get("loop_total", self.loop_sizes)
-        self.loop_verts = _zeros("I", nl)
-        mesh.loops.foreach_get("vertex_index", self.loop_verts)
-        # katachi's corners run polygon after polygon: corner_loops[k] is corner k's loop.
-        self.corner_loops = array.array("I")
-        for s, n in zip(self.loop_starts, self.loop_sizes):
-            self.corner_loops.extend(range(s, s + n))
-        self.corners = array.array("I", (self.loop_verts[i] for i in self.corner_loops))
-        self.corner_start = _zeros("I", nf + 1)
-        for f, n in enumerate(self.loop_sizes):
-            self.corner_start[f + 1] = self.corner_start[f] + n
-
-        self.edge_verts = _zeros("I", 2 * ne)
-        mesh.edges.foreach_get("vertices", self.edge_verts)
-        loop_edges = _zeros("I", nl)
-        mesh.loops.foreach_get("edge_index", loop_edges)
-        used = bytearray(ne)
-        for e in loop_edges:
-            used[e] = 1
-        self.used_edges = array.array("I", (e for e in range(ne) if used[e]))
-        self.loose_edges = array.array("I", (e for e in range(ne) if not used[e]))
-
-        # Per-corner UVs in katachi's corner order, every map side by side (dim 2 × maps).
-        self.uv_names = [layer.name for layer in mesh.uv_layers]
-        self.uv_loops = []  # per map: array('f'), 2 per Blender loop
-        for layer in mesh.uv_layers:
-            uv = _zeros("f", 2 * nl)
-            layer.data.foreach_get("uv", uv)
-            self.uv_loops.append(uv)
-        self.active_uv = mesh.uv_layers.active_index if mesh.uv_layers else -1
-        self.active_render_uv = next(
-            (i for i, l in enumerate(mesh.uv_layers) if l.active_render), -1
-        )
-
-        self.materials = _zeros("I", nf)
-        mesh.polygons.foreach_get("material_index", self.materials)
-        self.smooth = _bools(nf)
-        mesh.polygons.foreach_get("use_smooth", self.smooth)
-        self.face_hide = _bools(nf)
-        mesh.polygons.foreach_get("hide", self.face_hide)
-        self.vertex_hide = _bools(nv)
-        mesh.vertices.foreach_get("hide", self.vertex_hide)
-        self.edge_hide = _bools(ne)
-        mesh.edges.foreach_get("hide", self.edge_hide)
-
+        self.face_count, self.corner_count = nf, d.corner_count
+        self.positions = None  # doubles, only for shape keys (read with them)
         self.edge_data = _read_edge_data(mesh, ne)
-        self.vertex_creases = _read_vertex_creases(mesh, nv)
-        self.group_count, self.weights = _read_weights(mesh, nv)
-        self.shape_keys, self.key_offsets = _read_shape_keys(mesh, self.positions)
+        self.vertex_creases = d.vertex_creases
+        self.hide = _read_hide(mesh, nv, ne, nf)
+        self.group_count, self.weights = (
+            _read_weights(mesh, nv) if self.group_names else (0, None)
+        )
+        self.shape_keys, self.key_offsets = None, None
+        if mesh.shape_keys is not None and len(mesh.shape_keys.key_blocks):
+            self.positions = array.array("d", d.positions)
+            self.shape_keys, self.key_offsets = _read_shape_keys(mesh, self.positions)
 
-    def corner_uvs(self):
-        """All UV maps per katachi corner: ``2 × maps`` doubles per corner."""
-        maps = len(self.uv_loops)
-        out = _zeros("d", 2 * maps * self.corner_count)
-        for m, uv in enumerate(self.uv_loops):
-            for k, loop in enumerate(self.corner_loops):
-                at = 2 * (maps * k + m)
-                out[at] = uv[2 * loop]
-                out[at + 1] = uv[2 * loop + 1]
-        return out
+
+def _read_hide(mesh, nv, ne, nf):
+    """``(vertex, edge, face)`` hide flags as bytearrays, or None when nothing is hidden."""
+    if NEW_API:
+        names = ((".hide_vert", "POINT", nv), (".hide_edge", "EDGE", ne), (".hide_poly", "FACE", nf))
+        flags = []
+        for name, domain, n in names:
+            attr = mesh.attributes.get(name)
+            values = bytearray(n)
+            if attr is not None and attr.domain == domain and attr.data_type == "BOOLEAN":
+                attr.data.foreach_get("value", values)
+            flags.append(values)
+    else:
+        flags = []
+        for items, n in ((mesh.vertices, nv), (mesh.edges, ne), (mesh.polygons, nf)):
+            values = _bools(n)
+            items.foreach_get("hide", values)
+            flags.append(bytearray(values))
+    if not any(_any_nonzero(f) for f in flags):
+        return None
+    return tuple(flags)
 
 
 def _read_edge_data(mesh, ne):
@@ -225,140 +191,160 @@ def _read_shape_keys(mesh, positions):
     return settings, offsets
 
 
-def _read_vertex_creases(mesh, nv):
-    values = _vertex_creases(mesh, nv)
-    return values if values is not None and any(values) else None
 
 
 # ---------------------------------------------------------------------------- katachi
 
 
-def _to_katachi(lib, src):
-    """A new :class:`ffi.Mesh` of ``src`` whose edges carry their tags (index + 1)."""
-    mesh = create_mesh(lib, src)
-    try:
-        n = len(src.used_edges)
-        if n:
-            pairs = _zeros("I", 2 * n)
-            tags = _zeros("d", n)
-            ev = src.edge_verts
-            for i, e in enumerate(src.used_edges):
-                pairs[2 * i] = ev[2 * e]
-                pairs[2 * i + 1] = ev[2 * e + 1]
-                tags[i] = e + 1.0
-            lib.call("katachi_mesh_set_edge_sharpnesses", mesh.handle, _u32(pairs), _f64(tags), n)
-    except BaseException:
-        mesh.close()
-        raise
-    return mesh
+def _create(lib, d):
+    """A new :class:`ffi.Mesh` of ``d``'s faces (an :class:`InputMesh`), in Blender's layout."""
+    handle = POINTER(ffi.KatachiMesh)()
+    lib.call(
+        "katachi_mesh_create_polygons_f32",
+        _f32(d.positions),
+        d.vertex_count,
+        _u32(d.face_starts),
+        _u32(d.face_sizes) if d.face_sizes is not None else None,
+        d.face_count,
+        _u32(d.corners),
+        d.corner_count,
+        byref(handle),
+    )
+    return ffi.Mesh(lib, handle)
 
 
 class CutResult:
-    """What katachi's cut gave, in arrays (result ids), plus its report."""
+    """What katachi's cut gave, as the arrays Blender stores, plus its report."""
 
     def __init__(self):
         self.info = None  # ffi.KatachiCutInfo
-        self.positions = None  # array('d'), 3 per result vertex
-        self.corners = None  # array('I'), 3 per result triangle
-        self.face_origin = None  # array('I'), input face of each triangle
-        self.vertex_original = None  # array('I'), the vertex each result vertex copies
-        self.edge_tags = {}  # (a, b) with a < b -> input edge index
-        self.paths = []  # [(vertex ids, closed)]
         self.moved = []  # [(vertex, from xyz, to xyz, pixels)]
         self.dropped = {}  # stage -> array('I') of stroke point indices
-        self.uvs = None  # array('d'), 2 × maps per result corner
+        self.kept_faces = 0
+        self.positions = None  # array('f'), 3 per vertex
+        self.face_starts = None  # array('I')
+        self.face_sizes = None  # array('I') (3.4's loop_total)
+        self.corners = None  # array(INDEX)
+        self.edges = None  # array(INDEX), 2 per edge
+        self.corner_edges = None  # array(INDEX)
+        self.path_edges = None  # array('I'), edges on the cut paths
+        self.materials = None
+        self.smooth = None  # 3.4: list per face
+        self.sharp_face = None  # 4.0+: bytearray per face
+        self.uv_layers = []  # [(name, array('f'))]
+        self.edge_data = {}  # name -> (kind, carried values)
+        self.vertex_creases = None
+        self.hide = None  # (vertex, edge, face) bytearrays
+        self.input_counts = (0, 0)  # input vertices and edges (the result's first ones)
         self.weights = None  # array('d'), groups per result vertex
         self.key_offsets = None  # array('d'), 3 × keys per result vertex
 
 
-def cut(lib, src, stroke_px, view_proj, viewport, options):
+def cut(lib, src, stroke_px, view_proj, viewport, options, keep_polygons=True):
     """Cuts ``src`` (a :class:`CutSource`) through katachi; returns a :class:`CutResult`.
+    Faces the cut left whole come back as the polygons they were with ``keep_polygons``.
     Raises :class:`ffi.KatachiError` (nothing is changed then)."""
     out = CutResult()
-    with _to_katachi(lib, src) as mesh:
-        result = ffi.cut_by_stroke(lib, mesh, stroke_px, view_proj, viewport, options)
-    with result as c:
-        info = c.info()
-        out.info = info
-        if info.path_count == 0:
-            return out  # nothing was cut: the caller leaves the mesh alone
-        h = c.handle
-        out.face_origin = _zeros("I", info.face_count)
-        lib.call("katachi_cut_copy_face_origin", h, _u32(out.face_origin), info.face_count)
-        out.vertex_original = _zeros("I", info.vertex_count)
-        lib.call(
-            "katachi_cut_copy_vertex_original", h, _u32(out.vertex_original), info.vertex_count
-        )
-
-        offsets = _zeros("I", info.path_count + 1)
-        verts = _zeros("I", info.path_vertex_count)
-        lib.call(
-            "katachi_cut_copy_paths", h, _u32(offsets), len(offsets), _u32(verts), len(verts)
-        )
-        pieces = _zeros("I", info.path_count)
-        closed = _zeros("I", info.path_count)
-        lib.call(
-            "katachi_cut_copy_path_pieces", h, _u32(pieces), _u32(closed), info.path_count
-        )
-        out.paths = [
-            (verts[offsets[i]:offsets[i + 1]], bool(closed[i])) for i in range(info.path_count)
-        ]
-
-        n = info.moved_vertex_count
-        if n:
-            mv = _zeros("I", n)
-            frm, to, px = _zeros("d", 3 * n), _zeros("d", 3 * n), _zeros("d", n)
+    d = src.data
+    poly = POINTER(ffi.KatachiCutPolygons)()
+    with _create(lib, d) as mesh:
+        with ffi.cut_by_stroke(lib, mesh, stroke_px, view_proj, viewport, options) as c:
+            info = out.info = c.info()
+            if info.path_count == 0:
+                return out  # nothing was cut: the caller leaves the mesh alone
+            h = c.handle
+            n = info.moved_vertex_count
+            if n:
+                mv = _zeros("I", n)
+                frm, to, px = _zeros("d", 3 * n), _zeros("d", 3 * n), _zeros("d", n)
+                lib.call(
+                    "katachi_cut_copy_moved_vertices", h, _u32(mv), _f64(frm), _f64(to),
+                    _f64(px), n,
+                )
+                out.moved = [
+                    (mv[i], tuple(frm[3 * i:3 * i + 3]), tuple(to[3 * i:3 * i + 3]), px[i])
+                    for i in range(n)
+                ]
+            for stage, count in _dropped_counts(info).items():
+                points = _zeros("I", count)
+                if count:
+                    lib.call("katachi_cut_copy_dropped_points", h, stage, _u32(points), count)
+                out.dropped[stage] = points
+            out.weights = _vertex_data(lib, h, src.weights, src.group_count, info.vertex_count)
+            if src.shape_keys:
+                dim = 3 * len(src.shape_keys)
+                out.key_offsets = _vertex_data(lib, h, src.key_offsets, dim, info.vertex_count)
             lib.call(
-                "katachi_cut_copy_moved_vertices", h, _u32(mv), _f64(frm), _f64(to), _f64(px), n
+                "katachi_cut_polygons", h, mesh.handle, _u32(d.edges), d.edge_count,
+                _u32(d.corner_edges), d.corner_count, 1 if keep_polygons else 0, byref(poly),
             )
-            out.moved = [
-                (mv[i], tuple(frm[3 * i:3 * i + 3]), tuple(to[3 * i:3 * i + 3]), px[i])
-                for i in range(n)
-            ]
-
-        for stage, count in _dropped_counts(info).items():
-            points = _zeros("I", count)
-            if count:
-                lib.call("katachi_cut_copy_dropped_points", h, stage, _u32(points), count)
-            out.dropped[stage] = points
-
-        maps = len(src.uv_loops)
-        if maps:
-            values = src.corner_uvs()
-            out.uvs = _zeros("d", 2 * maps * info.corner_count)
-            lib.call(
-                "katachi_cut_interpolate_corner_data",
-                h,
-                _f64(values),
-                len(values),
-                2 * maps,
-                _f64(out.uvs),
-                len(out.uvs),
-            )
-
-        out.weights = _vertex_data(lib, h, src.weights, src.group_count, info.vertex_count)
-        if src.shape_keys:
-            dim = 3 * len(src.shape_keys)
-            out.key_offsets = _vertex_data(lib, h, src.key_offsets, dim, info.vertex_count)
-
-        mhandle = POINTER(ffi.KatachiMesh)()
-        lib.call("katachi_cut_mesh", h, byref(mhandle))
-    with ffi.Mesh(lib, mhandle) as m:
-        counts = m.counts()
-        out.positions = _copy_positions(lib, m, counts)
-        sizes, _, out.corners = _copy_faces(lib, m, counts)
-        if any(s != 3 for s in sizes):
-            raise ConversionError("katachi's cut gave a face that is not a triangle (a bug)")
-        ns = counts.sharp_edge_count
-        pairs, tags = _zeros("I", 2 * ns), _zeros("d", ns)
-        if ns:
-            lib.call("katachi_mesh_copy_sharp_edges", m.handle, _u32(pairs), _f64(tags), ns)
-        for i in range(ns):
-            a, b = pairs[2 * i], pairs[2 * i + 1]
-            e = int(tags[i]) - 1
-            if 0 <= e < src.edge_count:
-                out.edge_tags[(a, b) if a < b else (b, a)] = e
+    with ffi.CutPolygons(lib, poly) as p:
+        _read_result(lib, p, src, out)
     return out
+
+
+def _read_result(lib, p, src, out):
+    d = src.data
+    h = p.handle
+    i = p.info()
+    nv, nf, nc, ne = i.vertex_count, i.face_count, i.corner_count, i.edge_count
+    out.kept_faces = i.kept_face_count
+    out.input_counts = (d.vertex_count, d.edge_count)
+    out.positions = _zeros("f", 3 * nv)
+    lib.call("katachi_cut_polygons_copy_positions_f32", h, _f32(out.positions), 3 * nv)
+    out.face_starts = _zeros("I", nf)
+    out.corners = _zeros(INDEX, nc)
+    if not NEW_API:
+        out.face_sizes = _zeros("I", nf)
+    lib.call(
+        "katachi_cut_polygons_copy_polygons", h, _u32(out.face_starts), nf,
+        _u32(out.face_sizes) if out.face_sizes is not None else None, nf,
+        _u32(out.corners), nc,
+    )
+    out.edges = _zeros(INDEX, 2 * ne)
+    out.corner_edges = _zeros(INDEX, nc)
+    lib.call(
+        "katachi_cut_polygons_copy_edges", h, _u32(out.edges), 2 * ne,
+        _u32(out.corner_edges), nc,
+    )
+    out.path_edges = _zeros("I", i.path_edge_count)
+    if i.path_edge_count:
+        lib.call(
+            "katachi_cut_polygons_copy_path_edges", h, _u32(out.path_edges), i.path_edge_count
+        )
+
+    def carry(what, values, typecode, size, n):
+        result = _zeros(typecode, n) if typecode else bytearray(n)
+        lib.call(
+            f"katachi_cut_polygons_carry_{what}_data", h, _void(values), len(values), size,
+            _void(result), n,
+        )
+        return result
+
+    if _any_nonzero(d.materials):
+        out.materials = carry("face", d.materials, INDEX, 4, nf)
+    if d.smooth is not None and any(d.smooth):
+        out.smooth = list(map(bool, carry("face", bytearray(d.smooth), None, 1, nf)))
+    if d.sharp_face is not None:
+        out.sharp_face = carry("face", d.sharp_face, None, 1, nf)
+    for name, (kind, values) in src.edge_data.items():
+        if kind in ("flag", "bool attribute"):
+            out.edge_data[name] = (kind, carry("edge", bytearray(values), None, 1, ne))
+        else:
+            out.edge_data[name] = (kind, carry("edge", values, "f", 4, ne))
+    if src.vertex_creases is not None:
+        out.vertex_creases = carry("vertex", src.vertex_creases, "f", 4, nv)
+    if src.hide is not None:
+        vh, eh, fh = src.hide
+        out.hide = (carry("vertex", vh, None, 1, nv), carry("edge", eh, None, 1, ne),
+                    carry("face", fh, None, 1, nf))
+    for name, uv in d.uv_layers:
+        carried = _zeros("f", 2 * nc)
+        lib.call(
+            "katachi_cut_polygons_carry_corner_data_f32", h, _f32(uv), len(uv), 2,
+            _f32(carried), len(carried),
+        )
+        out.uv_layers.append((name, carried))
 
 
 def _vertex_data(lib, handle, values, dim, vertex_count):
@@ -389,270 +375,134 @@ def _dropped_counts(info):
 # ---------------------------------------------------------------------------- writing
 
 
-class _Built:
-    """The result in Blender's terms, before it becomes a mesh."""
-
-    def __init__(self):
-        self.loop_sizes = array.array("I")
-        self.loop_verts = array.array("I")
-        self.face_origin = array.array("I")
-        self.uvs = []  # per map: array('f'), 2 per loop
-        self.kept_faces = 0  # input faces given back whole
-
-
-def _vertex_bases(src, res):
-    """Per result vertex: the result vertex it copies (an opened cut's copies of path
-    vertices, from ``katachi_cut_copy_vertex_original``), else itself."""
-    return res.vertex_original
-
-
-def _path_edges(res):
-    """The cut paths' edges, as sorted result-vertex pairs (ids before opening)."""
-    edges = set()
-    for verts, closed in res.paths:
-        n = len(verts)
-        for i in range(n - 1 + (1 if closed and n > 2 else 0)):
-            a, b = verts[i], verts[(i + 1) % n]
-            edges.add((a, b) if a < b else (b, a))
-    return edges
-
-
-def _build(src, res, keep_polygons):
-    """Faces and corner data of the result: whole input faces where the cut left them whole
-    (``keep_polygons``), katachi's triangles elsewhere, in input face order."""
-    b = _Built()
-    nv_in = src.vertex_count
-    base = _vertex_bases(src, res)
-    maps = len(src.uv_loops)
-    b.uvs = [array.array("f") for _ in range(maps)]
-    tris = [[] for _ in range(src.face_count)]
-    for t, f in enumerate(res.face_origin):
-        tris[f].append(t)
-    path_edges = _path_edges(res)
-    # Input vertex each result vertex stands for (-1: a new vertex).
-    def source(k):
-        k = base[k]
-        return k if k < nv_in else -1
-
-    corners, uvs = res.corners, res.uvs
-    for f in range(src.face_count):
-        n = src.loop_sizes[f]
-        ts = tris[f]
-        whole = None
-        if keep_polygons and len(ts) == n - 2:
-            whole = _whole_face(src, f, ts, corners, source, path_edges)
-        if whole is not None:
-            b.kept_faces += 1
-            b.loop_sizes.append(n)
-            b.loop_verts.extend(whole)
-            b.face_origin.append(f)
-            s = src.loop_starts[f]
-            for m in range(maps):
-                b.uvs[m].extend(src.uv_loops[m][2 * s:2 * (s + n)])
-            continue
-        for t in ts:
-            b.loop_sizes.append(3)
-            b.loop_verts.extend(corners[3 * t:3 * t + 3])
-            b.face_origin.append(f)
-            for m in range(maps):
-                for j in range(3):
-                    at = 2 * (maps * (3 * t + j) + m)
-                    b.uvs[m].append(uvs[at])
-                    b.uvs[m].append(uvs[at + 1])
-    return b, base
-
-
-def _whole_face(src, f, ts, corners, source, path_edges):
-    """Face ``f``'s result vertices in its own corner order when its triangles ``ts`` are
-    still just its triangulation (same corners, nothing across it), else None."""
-    s, n = src.corner_start[f], src.loop_sizes[f]
-    own = src.corners[s:s + n]
-    own_set = set(own)
-    if len(own_set) != n:
-        return None
-    stand_in = {}  # input vertex -> the result vertex the triangles use for it
-    for t in ts:
-        for k in corners[3 * t:3 * t + 3]:
-            v = source(k)
-            if v < 0 or v not in own_set or stand_in.setdefault(v, k) != k:
-                return None
-    if len(stand_in) != n:
-        return None
-    # A cut path along a diagonal of the face (between two of its corners, not a side).
-    if n > 3:
-        sides = set()
-        for i in range(n):
-            a, c = own[i], own[(i + 1) % n]
-            sides.add((a, c) if a < c else (c, a))
-        for i in range(n):
-            for j in range(i + 2, n):
-                a, c = stand_in[own[i]], stand_in[own[j]]
-                key = (a, c) if a < c else (c, a)
-                side = (own[i], own[j]) if own[i] < own[j] else (own[j], own[i])
-                if key in path_edges and side not in sides:
-                    return None
-    return [stand_in[v] for v in own]
-
-
-def to_blender(src, res, source_mesh, name, keep_polygons=True):
+def to_blender(src, res, source_mesh, name):
     """A new Blender mesh from the cut ``res`` of ``src``; materials and UV map names come
-    from ``source_mesh`` (not changed). The cut paths' edges (both sides of an opened cut)
-    and their vertices are the only selected elements. Returns ``(mesh, kept_faces)``."""
-    built, base = _build(src, res, keep_polygons)
+    from ``source_mesh`` (not changed). Returns ``(mesh, kept_faces)``."""
     me = bpy.data.meshes.new(name)
     try:
-        _fill(me, src, res, built, base, source_mesh)
+        _fill(me, src, res, source_mesh)
     except BaseException:
         bpy.data.meshes.remove(me)
         raise
-    return me, built.kept_faces
+    return me, res.kept_faces
 
 
-def _fill(me, src, res, built, base, source_mesh):
-    nv = len(res.positions) // 3
-    nf = len(built.loop_sizes)
-    nl = len(built.loop_verts)
+def _fill(me, src, r, source_mesh):
+    nv, nf = len(r.positions) // 3, len(r.face_starts)
+    nc, ne = len(r.corners), len(r.edges) // 2
     me.vertices.add(nv)
-    me.vertices.foreach_set("co", array.array("f", res.positions))
-    # Loose edges first: calc_edges keeps the edges a mesh has.
-    nloose = len(src.loose_edges)
-    if nloose:
-        me.edges.add(nloose)
-        loose = array.array("I")
-        for e in src.loose_edges:
-            loose.extend(src.edge_verts[2 * e:2 * e + 2])
-        me.edges.foreach_set("vertices", loose)
-    add_faces(me, built.loop_sizes, built.loop_verts)
-
-    origin = built.face_origin
-    me.polygons.foreach_set("material_index", array.array("I", (src.materials[o] for o in origin)))
-    me.polygons.foreach_set("use_smooth", [src.smooth[o] for o in origin])
+    me.edges.add(ne)
+    me.loops.add(nc)
+    me.polygons.add(nf)
+    me.polygons.foreach_set("loop_start", r.face_starts)
+    if NEW_API:
+        a = me.attributes
+        for attr_name, prop, buf in (
+            ("position", "vector", r.positions),
+            (".edge_verts", "value", r.edges),
+            (".corner_vert", "value", r.corners),
+            (".corner_edge", "value", r.corner_edges),
+        ):
+            if len(buf):
+                a[attr_name].data.foreach_set(prop, buf)
+        for attr_name, data_type, domain, values in (
+            ("material_index", "INT", "FACE", r.materials),
+            ("sharp_face", "BOOLEAN", "FACE", r.sharp_face),
+            ("crease_vert", "FLOAT", "POINT", r.vertex_creases),
+        ):
+            if values is not None:
+                (a.get(attr_name) or a.new(attr_name, data_type, domain)).data.foreach_set(
+                    "value", values
+                )
+        for uv_name, uv in r.uv_layers:
+            if me.uv_layers.new(name=uv_name, do_init=False) is None:
+                raise ConversionError(f"Blender refused UV map {uv_name!r} (too many UV maps?)")
+            a[uv_name].data.foreach_set("vector", uv)
+    else:
+        me.vertices.foreach_set("co", r.positions)
+        me.edges.foreach_set("vertices", r.edges)
+        me.loops.foreach_set("vertex_index", r.corners)
+        me.loops.foreach_set("edge_index", r.corner_edges)
+        me.polygons.foreach_set("loop_total", r.face_sizes)
+        if r.materials is not None:
+            me.polygons.foreach_set("material_index", r.materials)
+        if r.smooth is not None:
+            me.polygons.foreach_set("use_smooth", r.smooth)
+        for uv_name, uv in r.uv_layers:
+            add_uv_map(me, uv_name, uv)
+    _write_edge_data(me, r)
     for mat in source_mesh.materials:
         me.materials.append(mat)
-
-    me.update(calc_edges=True)
-    repair_selection_attributes(me)
-    ne = len(me.edges)
-    if len(me.loops) != nl or len(me.polygons) != nf:
-        raise ConversionError("Blender changed the cut mesh while building it (a bug)")
-
-    for name, uv in zip(src.uv_names, built.uvs):
-        add_uv_map(me, name, uv)
-    if 0 <= src.active_render_uv < len(me.uv_layers):
-        me.uv_layers[src.active_render_uv].active_render = True
-    if 0 <= src.active_uv < len(me.uv_layers):
-        me.uv_layers.active_index = src.active_uv
-
-    # Edges: the input edge each lies on, from katachi's tags (or, for an opened cut's copy
-    # side, the tag of the edge it copies); the cut paths' edges are selected.
-    ev = _zeros("I", 2 * ne)
-    me.edges.foreach_get("vertices", ev)
-    edge_origin = [-1] * ne
-    selected = _bools(ne)
-    path_edges = _path_edges(res)
-    tags = res.edge_tags
-    for e in range(ne):
-        a, b = ev[2 * e], ev[2 * e + 1]
-        key = (a, b) if a < b else (b, a)
-        o = tags.get(key)
-        ba, bb = base[a], base[b]
-        bkey = (ba, bb) if ba < bb else (bb, ba)
-        if o is None and bkey != key:
-            o = tags.get(bkey)
-        if o is not None:
-            edge_origin[e] = o
-        if bkey in path_edges:
-            selected[e] = True
-    if nloose:  # Blender 3.x's calc_edges may reorder the edges it keeps
-        where = {}
-        for e in range(ne):
-            a, b = ev[2 * e], ev[2 * e + 1]
-            where[(a, b) if a < b else (b, a)] = e
-        for o in src.loose_edges:
-            a, b = src.edge_verts[2 * o], src.edge_verts[2 * o + 1]
-            e = where.get((a, b) if a < b else (b, a))
-            if e is None:
-                raise ConversionError(f"Blender dropped loose edge {a}-{b} (a bug)")
-            edge_origin[e] = o
-    _write_edge_data(me, src, edge_origin)
-
-    vc = None
-    if src.vertex_creases is not None:
-        nv_in = src.vertex_count
-        vc = _zeros("f", nv)
-        for k in range(nv):
-            o = base[k]
-            if o < nv_in:
-                vc[k] = src.vertex_creases[o]
-        if ATTRIBUTE_CREASES:
-            attr = me.attributes.get("crease_vert") or me.attributes.new("crease_vert", "FLOAT", "POINT")
-            attr.data.foreach_set("value", vc)
-            vc = None
-    if vc is not None or res.weights is not None:
-        write_with_bmesh(me, vc, res.weights, src.group_count)
-
-    # Hidden (Edit mode's Hide): a face as its input face; a vertex or edge when every face
-    # around it is hidden (loose ones as they were), so no shown face has hidden corners.
-    vhide, ehide = _hidden(me, src, built, edge_origin, nv, ne)
+    me.update()
+    if not NEW_API and r.vertex_creases is not None or r.weights is not None:
+        write_with_bmesh(
+            me, None if NEW_API else r.vertex_creases, r.weights, src.group_count
+        )
+    d = src.data
+    if 0 <= d.active_render_uv < len(me.uv_layers):
+        me.uv_layers[d.active_render_uv].active_render = True
+    if 0 <= d.active_uv < len(me.uv_layers):
+        me.uv_layers.active_index = d.active_uv
+    if (len(me.vertices), len(me.edges), len(me.loops), len(me.polygons)) != (nv, ne, nc, nf):
+        raise ConversionError(
+            "Blender changed the cut mesh while building it; the object was left as it was "
+            "(please report this as a katachi bug)"
+        )
+    hidden_edges = _write_hide(me, r, nv, ne)
     # Selection: the cut's shown edges and their vertices, nothing else.
-    vsel = _bools(nv)
-    for e in range(ne):
-        if selected[e] and not ehide[e]:
-            vsel[ev[2 * e]] = vsel[ev[2 * e + 1]] = True
-        else:
-            selected[e] = False
-    me.vertices.foreach_set("select", vsel)
-    me.edges.foreach_set("select", selected)
-    me.polygons.foreach_set("select", _bools(nf))
-    if any(src.face_hide) or any(src.vertex_hide):
-        me.polygons.foreach_set("hide", [src.face_hide[o] for o in built.face_origin])
-        me.vertices.foreach_set("hide", vhide)
-        me.edges.foreach_set("hide", ehide)
-
-    finish(me, source_mesh, "cut")
+    for e in r.path_edges:
+        if e in hidden_edges:
+            continue
+        edge = me.edges[e]
+        edge.select = True
+        for v in edge.vertices:
+            me.vertices[v].select = True
+    finish(me, source_mesh, "cut", validate=False)
     if src.shape_keys or src.group_names:
-        _write_object_data(me, src, res)
+        _write_object_data(me, src, r)
 
 
-def _hidden(me, src, built, edge_origin, nv, ne):
-    """Per vertex and per edge of the new mesh: hidden or not (see :func:`_fill`)."""
-    vhide, ehide = _bools(nv), _bools(ne)
-    if not (any(src.face_hide) or any(src.vertex_hide)):
-        return vhide, ehide
-    shown_v = bytearray(nv)
-    has_face_v = bytearray(nv)
-    k = 0
-    for f, n in enumerate(built.loop_sizes):
-        shown = not src.face_hide[built.face_origin[f]]
-        for v in built.loop_verts[k:k + n]:
-            has_face_v[v] = 1
-            if shown:
-                shown_v[v] = 1
-        k += n
-    nv_in = src.vertex_count
-    for v in range(nv):
-        if has_face_v[v]:
-            vhide[v] = not shown_v[v]
-        elif v < nv_in:
-            vhide[v] = bool(src.vertex_hide[v])
-    corner_edges = _zeros("I", len(me.loops))
-    me.loops.foreach_get("edge_index", corner_edges)
-    shown_e = bytearray(ne)
-    has_face_e = bytearray(ne)
-    k = 0
-    for f, n in enumerate(built.loop_sizes):
-        shown = not src.face_hide[built.face_origin[f]]
-        for e in corner_edges[k:k + n]:
-            has_face_e[e] = 1
-            if shown:
-                shown_e[e] = 1
-        k += n
-    for e in range(ne):
-        if has_face_e[e]:
-            ehide[e] = not shown_e[e]
-        elif edge_origin[e] >= 0:
-            ehide[e] = bool(src.edge_hide[edge_origin[e]])
-    return vhide, ehide
+def _write_hide(me, r, nv, ne):
+    """Hide flags as the input's (see the module docs); returns the hidden path edges."""
+    if r.hide is None:
+        return ()
+    vh, eh, fh = r.hide
+    vh, eh = bytearray(vh), bytearray(eh)
+    # New vertices and edges that only hidden faces use are hidden too.
+    shown_v, shown_e = bytearray(nv), bytearray(ne)
+    nf = len(r.face_starts)
+    nc = len(r.corners)
+    for f in range(nf):
+        if fh[f]:
+            continue
+        s = r.face_starts[f]
+        end = r.face_starts[f + 1] if f + 1 < nf else nc
+        for k in range(s, end):
+            shown_v[r.corners[k]] = 1
+            shown_e[r.corner_edges[k]] = 1
+    nv_in, ne_in = r.input_counts
+    for v in range(nv_in, nv):
+        vh[v] = vh[v] or not shown_v[v]
+    for e in range(ne_in, ne):
+        eh[e] = eh[e] or not shown_e[e]
+    me.vertices.foreach_set("hide", list(map(bool, vh)))
+    me.edges.foreach_set("hide", list(map(bool, eh)))
+    me.polygons.foreach_set("hide", list(map(bool, fh)))
+    return {e for e in r.path_edges if eh[e]}
+
+
+def _write_edge_data(me, r):
+    for name, (kind, values) in r.edge_data.items():
+        if kind == "flag":
+            me.edges.foreach_set(name, list(map(bool, values)))
+        elif kind == "float":
+            me.edges.foreach_set(name, values)
+        else:
+            attr = me.attributes.get(name)
+            if attr is None:
+                data_type = "BOOLEAN" if kind == "bool attribute" else "FLOAT"
+                attr = me.attributes.new(name, data_type, "EDGE")
+            attr.data.foreach_set("value", values)
 
 
 def _write_object_data(me, src, res):
@@ -690,21 +540,6 @@ def _add_shape_keys(tmp, me, settings, positions, offsets):
         if s["relative_key"] in by_name:
             kb.relative_key = by_name[s["relative_key"]]
     me.shape_keys.use_relative = settings[0].get("use_relative", True)
-
-
-def _write_edge_data(me, src, edge_origin):
-    for name, (kind, values) in src.edge_data.items():
-        if kind in ("flag", "bool attribute"):
-            out = [o >= 0 and bool(values[o]) for o in edge_origin]
-        else:
-            out = array.array("f", (values[o] if o >= 0 else 0.0 for o in edge_origin))
-        if kind in ("flag", "float"):
-            me.edges.foreach_set(name, out)
-        else:
-            attr = me.attributes.get(name)
-            if attr is None:
-                attr = me.attributes.new(name, "BOOLEAN" if kind == "bool attribute" else "FLOAT", "EDGE")
-            attr.data.foreach_set("value", out)
 
 
 # ---------------------------------------------------------------------------- report

@@ -80,6 +80,10 @@ class KatachiCut(ctypes.Structure):
     """Opaque stroke-cut-result handle (only ever used through a pointer)."""
 
 
+class KatachiCutPolygons(ctypes.Structure):
+    """Opaque handle of a cut in the input's own layout (only ever used through a pointer)."""
+
+
 # ---- structs (checked against include/katachi.h by tests/blender_bindings.rs) ----
 class KatachiMeshCounts(ctypes.Structure):
     _fields_ = [
@@ -197,6 +201,18 @@ class KatachiCutInfo(ctypes.Structure):
         ("mean_edge_length_px", c_double),
         ("mean_edge_length_world", c_double),
     ]
+
+
+class KatachiCutPolygonsInfo(ctypes.Structure):
+    _fields_ = [
+        ("struct_size", c_uint32),
+        ("vertex_count", c_uint32),
+        ("face_count", c_uint32),
+        ("corner_count", c_uint32),
+        ("edge_count", c_uint32),
+        ("kept_face_count", c_uint32),
+        ("path_edge_count", c_uint32),
+    ]
 # ---- end of structs ----
 
 # ---- callbacks (checked against include/katachi.h by tests/blender_bindings.rs) ----
@@ -263,6 +279,20 @@ FUNCTIONS = {
     "katachi_cut_copy_dropped_points": (KatachiStatus, [POINTER(KatachiCut), c_uint32, POINTER(c_uint32), c_size_t]),
     "katachi_cut_interpolate_corner_data": (KatachiStatus, [POINTER(KatachiCut), POINTER(c_double), c_size_t, c_uint32, POINTER(c_double), c_size_t]),
     "katachi_cut_interpolate_vertex_data": (KatachiStatus, [POINTER(KatachiCut), POINTER(c_double), c_size_t, c_uint32, POINTER(c_double), c_size_t]),
+    "katachi_cut_polygons_info_default": (KatachiCutPolygonsInfo, []),
+    "katachi_cut_polygons": (KatachiStatus, [POINTER(KatachiCut), POINTER(KatachiMesh), POINTER(c_uint32), c_uint32, POINTER(c_uint32), c_uint32, c_uint32, POINTER(POINTER(KatachiCutPolygons))]),
+    "katachi_cut_polygons_free": (None, [POINTER(KatachiCutPolygons)]),
+    "katachi_cut_polygons_info": (KatachiStatus, [POINTER(KatachiCutPolygons), POINTER(KatachiCutPolygonsInfo)]),
+    "katachi_cut_polygons_copy_positions": (KatachiStatus, [POINTER(KatachiCutPolygons), POINTER(c_double), c_size_t]),
+    "katachi_cut_polygons_copy_positions_f32": (KatachiStatus, [POINTER(KatachiCutPolygons), POINTER(c_float), c_size_t]),
+    "katachi_cut_polygons_copy_polygons": (KatachiStatus, [POINTER(KatachiCutPolygons), POINTER(c_uint32), c_size_t, POINTER(c_uint32), c_size_t, POINTER(c_uint32), c_size_t]),
+    "katachi_cut_polygons_copy_edges": (KatachiStatus, [POINTER(KatachiCutPolygons), POINTER(c_uint32), c_size_t, POINTER(c_uint32), c_size_t]),
+    "katachi_cut_polygons_copy_origins": (KatachiStatus, [POINTER(KatachiCutPolygons), POINTER(c_uint32), c_size_t, POINTER(c_uint32), c_size_t, POINTER(c_uint32), c_size_t]),
+    "katachi_cut_polygons_copy_path_edges": (KatachiStatus, [POINTER(KatachiCutPolygons), POINTER(c_uint32), c_size_t]),
+    "katachi_cut_polygons_carry_face_data": (KatachiStatus, [POINTER(KatachiCutPolygons), c_void_p, c_size_t, c_uint32, c_void_p, c_size_t]),
+    "katachi_cut_polygons_carry_edge_data": (KatachiStatus, [POINTER(KatachiCutPolygons), c_void_p, c_size_t, c_uint32, c_void_p, c_size_t]),
+    "katachi_cut_polygons_carry_vertex_data": (KatachiStatus, [POINTER(KatachiCutPolygons), c_void_p, c_size_t, c_uint32, c_void_p, c_size_t]),
+    "katachi_cut_polygons_carry_corner_data_f32": (KatachiStatus, [POINTER(KatachiCutPolygons), POINTER(c_float), c_size_t, c_uint32, POINTER(c_float), c_size_t]),
 }
 # ---- end of functions ----
 
@@ -426,6 +456,17 @@ class Cut(_Handle):
     def info(self):
         i = self.lib.katachi_cut_info_default()
         self.lib.call("katachi_cut_info", self.handle, ctypes.byref(i))
+        return i
+
+
+class CutPolygons(_Handle):
+    """Owns a ``KatachiCutPolygons*`` (a cut in the input's own layout)."""
+
+    FREE = "katachi_cut_polygons_free"
+
+    def info(self):
+        i = self.lib.katachi_cut_polygons_info_default()
+        self.lib.call("katachi_cut_polygons_info", self.handle, ctypes.byref(i))
         return i
 
 

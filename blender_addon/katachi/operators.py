@@ -241,13 +241,13 @@ def run_cut(op, context, pixels, view):
                 try:
                     src = cutting.CutSource(source, obj.vertex_groups)
                     view_proj, viewport = view.for_object(obj.matrix_world)
-                    res = cutting.cut(lib, src, pixels, view_proj, viewport, options)
+                    res = cutting.cut(
+                        lib, src, pixels, view_proj, viewport, options, op.keep_polygons
+                    )
                     if res.info.path_count == 0:
                         nothing.append((obj, res))
                         continue
-                    new, kept = cutting.to_blender(
-                        src, res, source, mesh.name, op.keep_polygons
-                    )
+                    new, kept = cutting.to_blender(src, res, source, mesh.name)
                     created[key] = (new, res, obj, src.face_count, kept)
                 except (ffi.KatachiError, convert.ConversionError) as e:
                     op.report({"ERROR"}, f"katachi: {obj.name}: {e}")

@@ -167,7 +167,7 @@ impl CutEdits {
             mesh: mesh_out,
             face_origin,
             report: self.report.clone(),
-            provenance: Provenance::of(self),
+            provenance: Provenance::of(self, &tris.mesh),
         })
     }
 }

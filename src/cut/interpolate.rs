@@ -32,20 +32,43 @@ pub(crate) struct Provenance {
     pub appended_from: Vec<u32>,
     /// Slots below `tri_count` whose triangle the cut rewrote, ascending.
     pub rewritten: Vec<u32>,
+    /// The input triangle each rewritten slot held (parallel to `rewritten`).
+    pub rewritten_sources: Vec<[u32; 3]>,
     /// Opening copies are vertices `first_copy..`; `copy_of[i]` is the vertex copied.
     pub first_copy: u32,
     pub copy_of: Vec<u32>,
+    /// The input edges the cut split, as [`CutEdits::split_edges`] gives them.
+    pub split: SplitEdges,
+}
+
+/// Input edges the cut split: `ends[i]`, with the new vertices `on[start[i]..start[i + 1]]`
+/// on it from the first end to the second.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct SplitEdges {
+    pub ends: Vec<(u32, u32)>,
+    pub start: Vec<u32>,
+    pub on: Vec<u32>,
 }
 
 impl Provenance {
-    pub fn of(e: &CutEdits) -> Self {
+    /// From the edits and the triangulated input they were made on.
+    pub fn of(e: &CutEdits, tris: &PolyMesh) -> Self {
+        let c = tris.corners();
         Provenance {
             tri_count: e.input_triangle_count,
             input_vertices: e.input_vertex_count,
             appended_from: e.appended_faces.iter().map(|&(_, s)| s.0).collect(),
             rewritten: e.rewritten_faces.iter().map(|&(s, _)| s.0).collect(),
+            rewritten_sources: (e.rewritten_faces.iter())
+                .map(|&(s, _)| std::array::from_fn(|i| c[3 * s.idx() + i].0))
+                .collect(),
             first_copy: e.first_copy,
             copy_of: e.copy_of.clone(),
+            split: SplitEdges {
+                ends: e.split_ends.iter().map(|&(u, w)| (u.0, w.0)).collect(),
+                start: e.split_start.clone(),
+                on: e.split_on.iter().map(|v| v.0).collect(),
+            },
         }
     }
 

@@ -23,7 +23,7 @@
 //! | §3.3, Figs. 8-10 | second normalization: no triangle crossed twice | `second_normalization.rs` |
 //! | Figs. 7, 13 | the split patterns: vertex + edge, edge + edge, end point inside | `split_patterns.rs` |
 //! | spec §4 step 8 | the cut path made of edges, and its opening | `path_and_opening.rs` |
-//! | — | the edits, the report, the new mesh | `edits.rs`, `report.rs`, `assemble.rs` |
+//! | — | the edits, the report, the new mesh; the cut in the input's own layout for hosts | `edits.rs`, `report.rs`, `assemble.rs`; `polygons.rs` |
 //!
 //! The corners are found on the stroke before snapping (it never changes them), so splitting
 //! the stroke after the snap, as the spec orders, changes nothing. What the steps ask of
@@ -85,6 +85,7 @@ mod ids;
 mod interpolate;
 mod options;
 mod path_and_opening;
+mod polygons;
 mod region;
 mod report;
 mod second_normalization;
@@ -97,6 +98,7 @@ mod visibility;
 
 pub use edits::CutEdits;
 pub use options::{CutMode, CutOptions};
+pub use polygons::{CutPolygons, InputEdges, NONE};
 pub use report::{CutOutput, CutPath, CutReport, DroppedPoints, VertexMove};
 pub use view::{Stroke, View};
 

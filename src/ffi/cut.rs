@@ -196,8 +196,8 @@ const INFO_DEFAULT: KatachiCutInfo = KatachiCutInfo {
 /// The result of `katachi_cut_by_stroke`: the cut mesh, where its faces come from, the cut
 /// paths and what snapping and normalization did. Opaque; free it with `katachi_cut_free`.
 pub struct KatachiCut {
-    input: PolyMesh,
-    output: CutOutput,
+    pub(super) input: PolyMesh,
+    pub(super) output: CutOutput,
 }
 
 /// A `KatachiCutOptions` holding the defaults (visible-only, not opened, no limit, the
@@ -374,7 +374,7 @@ pub unsafe extern "C" fn katachi_cut_free(cut: *mut KatachiCut) {
 
 /// # Safety
 /// A non-NULL `p` must be a live handle.
-unsafe fn cut_ref<'a>(p: *const KatachiCut) -> FfiResult<&'a KatachiCut> {
+pub(super) unsafe fn cut_ref<'a>(p: *const KatachiCut) -> FfiResult<&'a KatachiCut> {
     // SAFETY: forwarded to the caller.
     unsafe { deref(p, "cut") }
 }

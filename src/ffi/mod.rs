@@ -1,7 +1,8 @@
 //! The C ABI, declared in `include/katachi.h` (generated from this module by the pinned
 //! cbindgen: `cargo xtask header`).
 //!
-//! One file per kernel module ([`mesh`], [`inspect`], [`io`], [`subdivide`], [`cut`]) plus
+//! One file per kernel module ([`mesh`], [`inspect`], [`io`], [`subdivide`], [`cut`] and its
+//! host layout [`cut_polygons`]) plus
 //! the frame ([`status`], [`version`] and the private `boundary`), and nothing but conversion
 //! and error mapping:
 //!
@@ -35,7 +36,10 @@ pub mod subdivide;
 
 pub mod cut;
 
+pub mod cut_polygons;
+
 pub use cut::*;
+pub use cut_polygons::*;
 pub use inspect::*;
 pub use io::*;
 pub use mesh::*;

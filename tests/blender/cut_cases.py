@@ -183,10 +183,20 @@ def _operator(op, options):
 
 
 def cut(op="annotation", expect="FINISHED", **options):
-    """Runs a cut operator as a user's click does (with an undo step)."""
+    """Runs a cut operator as a user's click does (with an undo step); every result must be
+    a mesh Blender finds valid as it is (the add-on builds it from katachi's arrays without
+    asking Blender to repair anything)."""
     fn, options = _operator(op, options)
     result = fn("EXEC_DEFAULT", True, **options)
     check(result == {expect}, f"katachi.cut_by_{op} returned {result}, not {expect}")
+    if result == {"FINISHED"} and bpy.context.mode != "EDIT_MESH":
+        for o in bpy.context.selected_objects:
+            if o.type == "MESH":
+                copy = o.data.copy()
+                try:
+                    check(not copy.validate(verbose=True), f"{o.name}: Blender had to repair the cut")
+                finally:
+                    bpy.data.meshes.remove(copy)
 
 
 def expect_cut_error(fragments, op="annotation", **options):

@@ -640,6 +640,204 @@ static void test_interpolation_without_snapping(void)
     katachi_mesh_free(quads);
 }
 
+/* The cut in the input's own layout (katachi_cut_polygons) on the quad grid, with the host's
+ * edges numbered the kernel's way first (NULL), then given back: the same arrays; quads the
+ * stroke misses come back whole, every corner's edge joins it to the next corner, UVs carried
+ * as floats equal the positions (no snapping). */
+static void test_polygons_layout(void)
+{
+    KatachiMesh *quads = NULL;
+    KatachiCutOptions o = katachi_cut_options_default();
+    KatachiCut *cut = NULL;
+    KatachiCutPolygons *a = NULL, *b = NULL, *bad = NULL;
+    KatachiCutPolygonsInfo ia = katachi_cut_polygons_info_default();
+    KatachiCutPolygonsInfo ib = katachi_cut_polygons_info_default();
+    double stroke[2 * STROKE_POINTS];
+    uint32_t loop_sizes[GRID_N * GRID_N], face_loops[GRID_N * GRID_N];
+    uint32_t quad_corners[4 * GRID_N * GRID_N];
+    uint32_t materials[GRID_N * GRID_N];
+    float uv_in[2 * 4 * GRID_N * GRID_N];
+    float *pos, *uv_out;
+    uint32_t *starts, *sizes, *corners, *edges, *corner_edges, *fo, *eo, *co, *path, *mat_out;
+    uint32_t *edges_b, *corner_edges_b;
+    uint32_t i, j, f;
+    int ok;
+
+    make_grid_positions();
+    for (j = 0; j < GRID_N; j++) {
+        for (i = 0; i < GRID_N; i++) {
+            uint32_t q, v = j * (GRID_N + 1) + i;
+            uint32_t c[4] = {v, v + 1, v + GRID_N + 2, v + GRID_N + 1};
+            f = j * GRID_N + i;
+            for (q = 0; q < 4; q++) {
+                quad_corners[4 * f + q] = c[q];
+            }
+            loop_sizes[f] = 4;
+            face_loops[f] = 1;
+            materials[f] = 100 + f;
+        }
+    }
+    for (i = 0; i < 4 * GRID_N * GRID_N; i++) {
+        uv_in[2 * i] = (float)grid_positions[3 * quad_corners[i]];
+        uv_in[2 * i + 1] = (float)grid_positions[3 * quad_corners[i] + 1];
+    }
+    CHECK_OK("create the quad grid",
+             katachi_mesh_create(grid_positions, GRID_V, loop_sizes, GRID_N * GRID_N, face_loops,
+                                 GRID_N * GRID_N, quad_corners, 4 * GRID_N * GRID_N, &quads));
+    make_stroke(stroke);
+    o.snap_vertex_ratio = 0.0;
+    o.snap_segment_ratio = 0.0;
+    if (!CHECK_OK("cut the quads",
+                  katachi_cut_by_stroke(quads, stroke, STROKE_POINTS, VIEW_PROJ, VIEWPORT, &o,
+                                        &cut))) {
+        katachi_mesh_free(quads);
+        return;
+    }
+    CHECK_OK("polygons, edges numbered by first use",
+             katachi_cut_polygons(cut, quads, NULL, 0, NULL, 0, 1, &a));
+    CHECK_OK("its info", katachi_cut_polygons_info(a, &ia));
+    printf("     polygons: %u vertices, %u faces (%u kept), %u corners, %u edges (%u on the path)\n",
+           ia.vertex_count, ia.face_count, ia.kept_face_count, ia.corner_count, ia.edge_count,
+           ia.path_edge_count);
+    CHECK("some quads kept, some cut into triangles after them",
+          ia.kept_face_count > 0 && ia.kept_face_count < GRID_N * GRID_N &&
+              ia.face_count > GRID_N * GRID_N && ia.path_edge_count > 0);
+    pos = alloc(3 * (size_t)ia.vertex_count, sizeof *pos);
+    starts = alloc(ia.face_count, sizeof *starts);
+    sizes = alloc(ia.face_count, sizeof *sizes);
+    corners = alloc(ia.corner_count, sizeof *corners);
+    edges = alloc(2 * (size_t)ia.edge_count, sizeof *edges);
+    corner_edges = alloc(ia.corner_count, sizeof *corner_edges);
+    fo = alloc(ia.face_count, sizeof *fo);
+    eo = alloc(ia.edge_count, sizeof *eo);
+    co = alloc(ia.corner_count, sizeof *co);
+    path = alloc(ia.path_edge_count, sizeof *path);
+    mat_out = alloc(ia.face_count, sizeof *mat_out);
+    uv_out = alloc(2 * (size_t)ia.corner_count, sizeof *uv_out);
+    CHECK_OK("positions", katachi_cut_polygons_copy_positions_f32(a, pos, 3 * (size_t)ia.vertex_count));
+    CHECK_OK("polygons", katachi_cut_polygons_copy_polygons(a, starts, ia.face_count, sizes,
+                                                            ia.face_count, corners, ia.corner_count));
+    CHECK_OK("edges", katachi_cut_polygons_copy_edges(a, edges, 2 * (size_t)ia.edge_count,
+                                                      corner_edges, ia.corner_count));
+    CHECK_OK("origins", katachi_cut_polygons_copy_origins(a, fo, ia.face_count, eo, ia.edge_count,
+                                                          co, ia.corner_count));
+    CHECK_OK("path edges", katachi_cut_polygons_copy_path_edges(a, path, ia.path_edge_count));
+    ok = 1;
+    for (f = 0; f < ia.face_count; f++) {
+        uint32_t k, n = sizes[f], s0 = starts[f];
+        ok = ok && (f == 0 ? s0 == 0 : s0 == starts[f - 1] + sizes[f - 1]);
+        ok = ok && (f >= GRID_N * GRID_N || fo[f] == f) && fo[f] < GRID_N * GRID_N;
+        ok = ok && (n == 3 || (n == 4 && memcmp(corners + s0, quad_corners + 4 * f, sizeof(uint32_t) * 4) == 0));
+        for (k = 0; k < n; k++) {
+            uint32_t u = corners[s0 + k], w = corners[s0 + (k + 1) % n];
+            uint32_t e = corner_edges[s0 + k];
+            ok = ok && e < ia.edge_count &&
+                 ((edges[2 * e] == u && edges[2 * e + 1] == w) || (edges[2 * e] == w && edges[2 * e + 1] == u));
+            ok = ok && (co[s0 + k] == UINT32_MAX ? u >= GRID_V : quad_corners[co[s0 + k]] == u);
+        }
+    }
+    CHECK("faces in their slots, kept quads whole, every corner's edge and origin right", ok);
+    CHECK_OK("carry materials", katachi_cut_polygons_carry_face_data(a, materials, GRID_N * GRID_N, 4,
+                                                                     mat_out, ia.face_count));
+    ok = 1;
+    for (f = 0; f < ia.face_count; f++) {
+        ok = ok && mat_out[f] == 100 + fo[f];
+    }
+    CHECK("materials follow the faces", ok);
+    CHECK_OK("carry UVs", katachi_cut_polygons_carry_corner_data_f32(a, uv_in, 2 * 4 * GRID_N * GRID_N, 2,
+                                                                    uv_out, 2 * (size_t)ia.corner_count));
+    ok = 1;
+    for (i = 0; i < ia.corner_count; i++) {
+        ok = ok && fabs(uv_out[2 * i] - pos[3 * corners[i]]) < 1e-5 &&
+             fabs(uv_out[2 * i + 1] - pos[3 * corners[i] + 1]) < 1e-5;
+    }
+    CHECK("UV = (x, y) at every corner", ok);
+
+    /* The host's edges given back: the same arrays. */
+    {
+        uint32_t *host_ce = alloc(4 * GRID_N * GRID_N, sizeof *host_ce);
+        KatachiCutPolygons *all = NULL;
+        KatachiCutPolygonsInfo iall = katachi_cut_polygons_info_default();
+        CHECK_OK("every face as triangles",
+                 katachi_cut_polygons(cut, quads, NULL, 0, NULL, 0, 0, &all));
+        CHECK_OK("its info", katachi_cut_polygons_info(all, &iall));
+        CHECK("no face kept", iall.kept_face_count == 0 && iall.corner_count % 3 == 0 &&
+                                  iall.face_count > ia.face_count);
+        katachi_cut_polygons_free(all);
+        /* The host's edges, numbered by first use in corner order (as the kernel does). */
+        {
+            uint32_t *hedges = alloc(2 * (size_t)4 * GRID_N * GRID_N, sizeof *hedges);
+            uint32_t ne = 0, k;
+            for (k = 0; k < 4 * GRID_N * GRID_N; k++) {
+                uint32_t fq = k / 4, u = quad_corners[k], w = quad_corners[4 * fq + (k % 4 + 1) % 4], e;
+                for (e = 0; e < ne; e++) {
+                    if ((hedges[2 * e] == u && hedges[2 * e + 1] == w) || (hedges[2 * e] == w && hedges[2 * e + 1] == u)) {
+                        break;
+                    }
+                }
+                if (e == ne) {
+                    hedges[2 * ne] = u;
+                    hedges[2 * ne + 1] = w;
+                    ne++;
+                }
+                host_ce[k] = e;
+            }
+            CHECK_OK("polygons with the host's edges",
+                     katachi_cut_polygons(cut, quads, hedges, ne, host_ce, 4 * GRID_N * GRID_N, 1, &b));
+            CHECK_OK("its info", katachi_cut_polygons_info(b, &ib));
+            edges_b = alloc(2 * (size_t)ib.edge_count, sizeof *edges_b);
+            corner_edges_b = alloc(ib.corner_count, sizeof *corner_edges_b);
+            CHECK_OK("its edges", katachi_cut_polygons_copy_edges(b, edges_b, 2 * (size_t)ib.edge_count,
+                                                                  corner_edges_b, ib.corner_count));
+            CHECK("the same edges as the kernel's numbering",
+                  memcmp(&ia, &ib, sizeof ia) == 0 &&
+                      memcmp(edges, edges_b, sizeof(uint32_t) * 2 * ia.edge_count) == 0 &&
+                      memcmp(corner_edges, corner_edges_b, sizeof(uint32_t) * ia.corner_count) == 0);
+            host_ce[5] = host_ce[6];
+            CHECK_ERR("a corner's edge that does not join it to the next corner",
+                      katachi_cut_polygons(cut, quads, hedges, ne, host_ce, 4 * GRID_N * GRID_N, 1, &bad),
+                      KATACHI_STATUS_INVALID_ARGUMENT, "corner 5");
+            CHECK("no handle on failure", bad == NULL);
+            host_ce[5] = ne + 7;
+            CHECK_ERR("a corner's edge out of range",
+                      katachi_cut_polygons(cut, quads, hedges, ne, host_ce, 4 * GRID_N * GRID_N, 1, &bad),
+                      KATACHI_STATUS_INVALID_ARGUMENT, "corner 5");
+            CHECK_ERR("keep_polygons 2",
+                      katachi_cut_polygons(cut, quads, NULL, 0, NULL, 0, 2, &bad),
+                      KATACHI_STATUS_INVALID_ARGUMENT, "keep_polygons");
+            CHECK_ERR("NULL out", katachi_cut_polygons(cut, quads, NULL, 0, NULL, 0, 1, NULL),
+                      KATACHI_STATUS_NULL_POINTER, "out");
+            CHECK_ERR("a short buffer",
+                      katachi_cut_polygons_copy_edges(b, edges_b, 1, NULL, 0),
+                      KATACHI_STATUS_BUFFER_TOO_SMALL, "edges");
+            CHECK_ERR("face data of the wrong count",
+                      katachi_cut_polygons_carry_face_data(b, materials, 3, 4, mat_out, ia.face_count),
+                      KATACHI_STATUS_INVALID_ARGUMENT, "value_count");
+            free(hedges);
+            free(edges_b);
+            free(corner_edges_b);
+        }
+        free(host_ce);
+    }
+    katachi_cut_polygons_free(a);
+    katachi_cut_polygons_free(b);
+    katachi_cut_polygons_free(NULL);
+    free(pos);
+    free(starts);
+    free(sizes);
+    free(corners);
+    free(edges);
+    free(corner_edges);
+    free(fo);
+    free(eo);
+    free(co);
+    free(path);
+    free(mat_out);
+    free(uv_out);
+    katachi_cut_free(cut);
+    katachi_mesh_free(quads);
+}
+
 static void test_bad_input(void)
 {
     KatachiMesh *grid = make_grid();
@@ -805,6 +1003,7 @@ int main(void)
     test_grid_cut();
     test_open_and_closed();
     test_interpolation_without_snapping();
+    test_polygons_layout();
     test_bad_input();
     return check_finish();
 }

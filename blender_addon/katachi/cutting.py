@@ -449,14 +449,15 @@ def _fill(me, src, r, source_mesh):
             "(please report this as a katachi bug)"
         )
     hidden_edges = _write_hide(me, r, nv, ne)
-    # Selection: the cut's shown edges and their vertices, nothing else.
+    # Selection: the cut's shown edges and their vertices, nothing else (written whole: new
+    # elements may start selected).
+    vsel, esel = bytearray(nv), bytearray(ne)
     for e in r.path_edges:
-        if e in hidden_edges:
-            continue
-        edge = me.edges[e]
-        edge.select = True
-        for v in edge.vertices:
-            me.vertices[v].select = True
+        if e not in hidden_edges:
+            esel[e] = vsel[r.edges[2 * e]] = vsel[r.edges[2 * e + 1]] = 1
+    me.vertices.foreach_set("select", list(map(bool, vsel)))
+    me.edges.foreach_set("select", list(map(bool, esel)))
+    me.polygons.foreach_set("select", _bools(nf))
     finish(me, source_mesh, "cut", validate=False)
     if src.shape_keys or src.group_names:
         _write_object_data(me, src, r)

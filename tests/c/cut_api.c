@@ -793,6 +793,36 @@ static void test_polygons_layout(void)
                   memcmp(&ia, &ib, sizeof ia) == 0 &&
                       memcmp(edges, edges_b, sizeof(uint32_t) * 2 * ia.edge_count) == 0 &&
                       memcmp(corner_edges, corner_edges_b, sizeof(uint32_t) * ia.corner_count) == 0);
+            {
+                uint32_t *ev = alloc(ne, sizeof *ev), *eout = alloc(ib.edge_count, sizeof *eout);
+                uint32_t vv[GRID_V], *vout = alloc(ib.vertex_count, sizeof *vout);
+                double *pd = alloc(3 * (size_t)ib.vertex_count, sizeof *pd);
+                uint32_t k;
+                for (k = 0; k < ne; k++) {
+                    ev[k] = k + 1;
+                }
+                for (k = 0; k < GRID_V; k++) {
+                    vv[k] = k + 1;
+                }
+                CHECK_OK("carry edge data", katachi_cut_polygons_carry_edge_data(b, ev, ne, 4, eout, ib.edge_count));
+                CHECK_OK("carry vertex data", katachi_cut_polygons_carry_vertex_data(b, vv, GRID_V, 4, vout, ib.vertex_count));
+                CHECK_OK("positions as doubles", katachi_cut_polygons_copy_positions(b, pd, 3 * (size_t)ib.vertex_count));
+                ok = 1;
+                for (k = 0; k < ib.edge_count; k++) {
+                    ok = ok && (k < ne ? eout[k] == k + 1 : eout[k] <= ne);
+                }
+                for (k = 0; k < ib.vertex_count; k++) {
+                    ok = ok && vout[k] == (k < GRID_V ? k + 1 : 0);
+                }
+                for (k = 0; k < 3 * ib.vertex_count; k++) {
+                    ok = ok && (float)pd[k] == pos[k];
+                }
+                CHECK("host edges keep their data, input vertices theirs, new vertices none; positions", ok);
+                free(ev);
+                free(eout);
+                free(vout);
+                free(pd);
+            }
             host_ce[5] = host_ce[6];
             CHECK_ERR("a corner's edge that does not join it to the next corner",
                       katachi_cut_polygons(cut, quads, hedges, ne, host_ce, 4 * GRID_N * GRID_N, 1, &bad),

@@ -100,6 +100,10 @@ enum KatachiStatus
      * with the message.
      */
     KATACHI_STATUS_INTERNAL_ERROR = 7,
+    /**
+     * The caller cancelled the call through its progress function; nothing was returned.
+     */
+    KATACHI_STATUS_CANCELLED = 8,
 };
 #ifndef __cplusplus
 #if __STDC_VERSION__ >= 202311L

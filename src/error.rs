@@ -16,6 +16,8 @@ pub enum ErrorKind {
     BadTopology,
     /// A file could not be read, written or parsed.
     Io,
+    /// The caller cancelled the operation.
+    Cancelled,
     /// A bug in katachi: an invariant did not hold.
     Internal,
 }
@@ -113,6 +115,10 @@ pub enum Error {
         "edge {a}-{b} is non-manifold: it is used by {uses} face sides (at most 2 are allowed)"
     )]
     NonManifoldEdge { a: u32, b: u32, uses: u32 },
+    /// The faces around a vertex form more than one fan (a bow-tie: they touch at the vertex
+    /// but are not joined through edges around it).
+    #[error("vertex {vertex} is non-manifold: its faces form {fans} fans that touch only at it")]
+    NonManifoldVertex { vertex: u32, fans: u32 },
     /// Two faces traverse an edge in the same direction.
     #[error("edge {a}-{b} has inconsistent orientation: two faces traverse it from {a} to {b}")]
     InconsistentOrientation { a: u32, b: u32 },
@@ -129,6 +135,15 @@ pub enum Error {
     /// A stroke point has a NaN or infinite coordinate.
     #[error("stroke point {index}: coordinate {axis} is {value}, not a finite number")]
     NonFiniteStrokePoint { index: u32, axis: Axis, value: f64 },
+    /// A stroke point lies beyond the screen range the cut works in
+    /// (`katachi::cut::SCREEN_RANGE_PX`, ±2^40 pixels).
+    #[error("stroke point {index}: coordinate {axis} is {}, beyond the ±{} pixels a cut works in", Num(*.value), Num(*.limit))]
+    StrokePointOutOfRange {
+        index: u32,
+        axis: Axis,
+        value: f64,
+        limit: f64,
+    },
     /// Two segments of a stroke cross or touch (seed 002 §2.2 assumes a stroke that does not
     /// cross itself). Segment `i` joins input points `i` and the next kept point.
     #[error("the stroke crosses itself: segment {first} (from point {first}) meets segment {second} (from point {second})")]
@@ -138,6 +153,10 @@ pub enum Error {
         "view-projection matrix entry (column {column}, row {row}) is {value}, not a finite number"
     )]
     NonFiniteMatrixEntry { column: u32, row: u32, value: f64 },
+    /// A view-projection matrix entry is so large that the matrix's determinant overflows
+    /// (`column`, `row`: the largest entry).
+    #[error("view-projection matrix entry (column {column}, row {row}) is {}: too large (the matrix's determinant overflows)", Num(*.value))]
+    ViewProjectionOutOfRange { column: u32, row: u32, value: f64 },
     /// The view-projection matrix cannot be inverted, so moved vertices cannot be unprojected.
     #[error("the view-projection matrix is singular (determinant {})", Num(*.determinant))]
     SingularViewProjection { determinant: f64 },
@@ -177,6 +196,9 @@ pub enum Error {
     /// Curved meshing (seed 000) rejected its input or ran out of budget.
     #[error(transparent)]
     Curved(#[from] CurvedError),
+    /// The caller cancelled the operation (through its progress function).
+    #[error("{operation} was cancelled")]
+    Cancelled { operation: &'static str },
     /// A bug in katachi.
     #[error("internal error: {0} (this is a bug in katachi; please report it)")]
     Internal(String),
@@ -209,9 +231,10 @@ impl Error {
     /// The family of this error.
     pub fn kind(&self) -> ErrorKind {
         match self {
-            Error::NonManifoldEdge { .. } | Error::InconsistentOrientation { .. } => {
-                ErrorKind::BadTopology
-            }
+            Error::NonManifoldEdge { .. }
+            | Error::NonManifoldVertex { .. }
+            | Error::InconsistentOrientation { .. } => ErrorKind::BadTopology,
+            Error::Cancelled { .. } => ErrorKind::Cancelled,
             Error::Io { .. } | Error::Parse { .. } | Error::UnknownFormat { .. } => ErrorKind::Io,
             Error::Internal(_) => ErrorKind::Internal,
             _ => ErrorKind::BadInput,

@@ -157,6 +157,7 @@ fn status_values_and_names_are_stable() {
             7,
             "KATACHI_STATUS_INTERNAL_ERROR",
         ),
+        (KatachiStatus::Cancelled, 8, "KATACHI_STATUS_CANCELLED"),
     ];
     for (status, value, name) in expected {
         assert_eq!(status as u32, value);

@@ -100,7 +100,7 @@ pub use edits::CutEdits;
 pub use options::{CutMode, CutOptions};
 pub use polygons::{CutPolygons, InputEdges, NONE};
 pub use report::{CutOutput, CutPath, CutReport, DroppedPoints, VertexMove};
-pub use view::{Stroke, View};
+pub use view::{Stroke, View, SCREEN_RANGE_PX};
 
 use crate::error::Result;
 use crate::mesh::{PolyMesh, VertexId};

@@ -6,7 +6,7 @@ use glam::DVec2;
 use super::geom::{on_segment, orient, point_segment_distance};
 use super::options::CutOptions;
 use super::snap::{Polyline, Snapped};
-use super::view::Stroke;
+use super::view::{Stroke, SCREEN_RANGE_PX};
 use crate::error::{Axis, Error, Result};
 
 /// The stroke as the cut uses it.
@@ -113,6 +113,14 @@ pub(crate) fn prepare(stroke: &Stroke, options: &CutOptions) -> Result<Prepared>
                     index: i as u32,
                     axis,
                     value,
+                });
+            }
+            if value.abs() > SCREEN_RANGE_PX {
+                return Err(Error::StrokePointOutOfRange {
+                    index: i as u32,
+                    axis,
+                    value,
+                    limit: SCREEN_RANGE_PX,
                 });
             }
         }

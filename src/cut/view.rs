@@ -17,6 +17,13 @@ use glam::{DMat4, DVec2, DVec3, DVec4};
 use super::ids::Lv;
 use crate::error::{Error, Result};
 
+/// The screen range a cut works in, ±2^40 pixels (about 1.1e12): stroke points and viewport
+/// values beyond it are errors, and a vertex that projects beyond it is treated like one
+/// behind the eye (its faces are never cut). Far beyond any screen, and small enough that
+/// products of screen coordinates (the exact predicates) and the sizes of the cut's grids
+/// stay far from overflow.
+pub const SCREEN_RANGE_PX: f64 = 1_099_511_627_776.0;
+
 /// A camera: the matrix taking world points to clip space and the viewport in pixels.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct View {
@@ -50,6 +57,26 @@ impl Stroke {
     pub fn new(points: Vec<DVec2>) -> Self {
         Stroke { points }
     }
+}
+
+/// Whether a screen point lies within [`SCREEN_RANGE_PX`] (not NaN).
+#[inline]
+pub(crate) fn in_range(s: DVec2) -> bool {
+    s.x.abs() <= SCREEN_RANGE_PX && s.y.abs() <= SCREEN_RANGE_PX
+}
+
+/// The rows of the view-projection matrix and the viewport's terms that
+/// [`Projector::screen_of`] computes a screen point from: `w = w·[p, 1]`, and
+/// `(x0 + (x·[p, 1] / w + 1) · half_w, y0 + (1 − y·[p, 1] / w) · half_h)`.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct ScreenRows {
+    pub x: DVec4,
+    pub y: DVec4,
+    pub w: DVec4,
+    pub x0: f64,
+    pub y0: f64,
+    pub half_w: f64,
+    pub half_h: f64,
 }
 
 /// A vertex seen through the view: its pixel position, its clip-space w (> 0 in front) and its
@@ -154,6 +181,12 @@ impl Projector {
                 reason: "a value is not finite",
             });
         }
+        if vp.iter().any(|v| v.abs() > SCREEN_RANGE_PX) {
+            return Err(Error::InvalidViewport {
+                viewport: vp,
+                reason: "a value is beyond the ±2^40 (1.1e12) pixels a cut works in",
+            });
+        }
         if vp[2] <= 0.0 || vp[3] <= 0.0 {
             return Err(Error::InvalidViewport {
                 viewport: vp,
@@ -162,14 +195,31 @@ impl Projector {
         }
         let m = view.view_proj;
         let determinant = m.determinant();
+        let entries = m.to_cols_array();
+        if !determinant.is_finite() {
+            // Finite entries whose products overflow: name the largest.
+            let (k, &value) = entries
+                .iter()
+                .enumerate()
+                .max_by(|a, b| a.1.abs().total_cmp(&b.1.abs()))
+                .expect("16 entries");
+            return Err(Error::ViewProjectionOutOfRange {
+                column: (k / 4) as u32,
+                row: (k % 4) as u32,
+                value,
+            });
+        }
         // Relative to the entries' scale, so a matrix in millimetres is not "singular".
-        let scale = m.to_cols_array().iter().fold(0.0f64, |a, v| a.max(v.abs()));
-        if !(determinant.abs() > 1e-300 && determinant.abs() > 1e-14 * scale.powi(4)) {
+        let scale = entries.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+        let inv = m.inverse();
+        if !(determinant.abs() > 1e-300 && determinant.abs() > 1e-14 * scale.powi(4))
+            || !inv.is_finite()
+        {
             return Err(Error::SingularViewProjection { determinant });
         }
         Ok(Projector {
             vp: m,
-            inv: m.inverse(),
+            inv,
             x0: vp[0],
             y0: vp[1],
             half_w: vp[2] * 0.5,
@@ -181,18 +231,6 @@ impl Projector {
     #[inline]
     pub fn clip(&self, p: DVec3) -> DVec4 {
         self.vp * p.extend(1.0)
-    }
-
-    /// Rows `(rx, ry, rw)` such that a world point `p` (in front) lies in cell
-    /// `(rx·[p,1] / rw·[p,1], ry·[p,1] / rw·[p,1]) − 1` of a grid with this pixel `origin` and
-    /// cells `1 / inv_cell` wide: the projection and the cell lookup folded into one divide
-    /// (the cut's vertex pass).
-    pub fn cell_rows(&self, origin: DVec2, inv_cell: f64) -> (DVec4, DVec4, DVec4) {
-        let (r0, r1, r3) = (self.vp.row(0), self.vp.row(1), self.vp.row(3));
-        let (ax, ay) = (self.half_w * inv_cell, self.half_h * inv_cell);
-        let bx = (self.x0 + self.half_w - origin.x) * inv_cell + 1.0;
-        let by = (self.y0 + self.half_h - origin.y) * inv_cell + 1.0;
-        (r0 * ax + r3 * bx, r3 * by - r1 * ay, r3)
     }
 
     /// Pixel position of NDC x, y.
@@ -213,16 +251,18 @@ impl Projector {
         )
     }
 
-    /// The vertex as seen, or `None` behind the eye (`w ≤ 0`, spec §2 "unprojectable").
+    /// The vertex as seen, or `None` when it is unprojectable (spec §2): behind the eye
+    /// (`w ≤ 0`), with a clip w that is not finite, or seen beyond [`SCREEN_RANGE_PX`].
     #[inline]
     pub fn see(&self, p: DVec3) -> Option<Seen> {
         let c = self.clip(p);
-        if c.w.is_nan() || c.w <= 0.0 {
+        if !(c.w > 0.0 && c.w < f64::INFINITY) {
             return None;
         }
         let inv_w = 1.0 / c.w;
-        Some(Seen {
-            screen: self.ndc_to_screen(c.x * inv_w, c.y * inv_w),
+        let screen = self.ndc_to_screen(c.x * inv_w, c.y * inv_w);
+        in_range(screen).then(|| Seen {
+            screen,
             w: c.w,
             z: c.z * inv_w,
         })
@@ -234,11 +274,26 @@ impl Projector {
     pub fn screen_of(&self, p: DVec3) -> Option<DVec2> {
         let h = p.extend(1.0);
         let w = self.vp.row(3).dot(h);
-        if w.is_nan() || w <= 0.0 {
+        if !(w > 0.0 && w < f64::INFINITY) {
             return None;
         }
         let inv_w = 1.0 / w;
-        Some(self.ndc_to_screen(self.vp.row(0).dot(h) * inv_w, self.vp.row(1).dot(h) * inv_w))
+        let screen =
+            self.ndc_to_screen(self.vp.row(0).dot(h) * inv_w, self.vp.row(1).dot(h) * inv_w);
+        in_range(screen).then_some(screen)
+    }
+
+    /// What [`Projector::screen_of`] computes, for passes that repeat it lane by lane.
+    pub fn screen_rows(&self) -> ScreenRows {
+        ScreenRows {
+            x: self.vp.row(0),
+            y: self.vp.row(1),
+            w: self.vp.row(3),
+            x0: self.x0,
+            y0: self.y0,
+            half_w: self.half_w,
+            half_h: self.half_h,
+        }
     }
 
     /// The world point seen at pixel `s` with clip w `w` and NDC depth `z`: "move in the

@@ -67,6 +67,7 @@ impl From<Error> for FfiError {
             (_, ErrorKind::BadInput) => KatachiStatus::BadInput,
             (_, ErrorKind::BadTopology) => KatachiStatus::BadTopology,
             (_, ErrorKind::Io) => KatachiStatus::IoError,
+            (_, ErrorKind::Cancelled) => KatachiStatus::Cancelled,
             (_, ErrorKind::Internal) => KatachiStatus::InternalError,
         };
         FfiError::new(status, e.to_string())

@@ -34,10 +34,12 @@ pub enum KatachiStatus {
     /// A bug in katachi (an internal invariant failed or katachi panicked). Please report it
     /// with the message.
     InternalError = 7,
+    /// The caller cancelled the call through its progress function; nothing was returned.
+    Cancelled = 8,
 }
 
 /// Every status, in numeric order (not `pub`, so cbindgen leaves it out of the header).
-const ALL: [KatachiStatus; 8] = [
+const ALL: [KatachiStatus; 9] = [
     KatachiStatus::Ok,
     KatachiStatus::NullPointer,
     KatachiStatus::InvalidArgument,
@@ -46,6 +48,7 @@ const ALL: [KatachiStatus; 8] = [
     KatachiStatus::BadTopology,
     KatachiStatus::IoError,
     KatachiStatus::InternalError,
+    KatachiStatus::Cancelled,
 ];
 
 impl KatachiStatus {
@@ -69,6 +72,7 @@ impl KatachiStatus {
             KatachiStatus::BadTopology => c"KATACHI_STATUS_BAD_TOPOLOGY",
             KatachiStatus::IoError => c"KATACHI_STATUS_IO_ERROR",
             KatachiStatus::InternalError => c"KATACHI_STATUS_INTERNAL_ERROR",
+            KatachiStatus::Cancelled => c"KATACHI_STATUS_CANCELLED",
         }
     }
 }

@@ -3,6 +3,7 @@
  * its result handle (info, mesh, face origins, paths, moved vertices, dropped stroke points),
  * carrying UVs and vertex data through the cut, opening, closed strokes, and bad input.
  */
+#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 
@@ -1027,6 +1028,97 @@ static void test_bad_input(void)
     katachi_mesh_free(grid);
 }
 
+/* Numbers of huge but finite magnitude from the caller (1e300, DBL_MAX): a stroke point, a
+ * matrix entry, a viewport value are typed errors naming what is wrong; a mesh coordinate
+ * gives a cut with finite positions or a typed error. Never an internal error, and (under
+ * valgrind) no read out of bounds. */
+static void test_extreme_numbers(void)
+{
+    KatachiMesh *grid = make_grid();
+    KatachiCutOptions o = katachi_cut_options_default();
+    KatachiCut *cut = NULL;
+    const double huge[3] = {1e300, DBL_MAX, -DBL_MAX};
+    double vp[16], viewport[4];
+    double s2[4] = {20.0, 330.0, 0.0, 0.0};
+    double s3[6] = {20.0, 330.0, 250.0, 240.0, 0.0, 140.0};
+    int i, k, mode;
+    for (i = 0; i < 3; i++) {
+        for (mode = 0; mode < 2; mode++) {
+            o.mode = (uint32_t)mode;
+            s2[2] = huge[i];
+            s2[3] = huge[i];
+            CHECK_ERR("a stroke point at a huge coordinate",
+                      katachi_cut_by_stroke(grid, s2, 2, VIEW_PROJ, VIEWPORT, &o, &cut),
+                      KATACHI_STATUS_BAD_INPUT, "stroke point 1");
+            CHECK("no result", cut == NULL);
+            s3[4] = huge[i];
+            CHECK_ERR("the last of three stroke points at a huge coordinate",
+                      katachi_cut_by_stroke(grid, s3, 3, VIEW_PROJ, VIEWPORT, &o, &cut),
+                      KATACHI_STATUS_BAD_INPUT, "beyond");
+            memcpy(vp, VIEW_PROJ, sizeof vp);
+            for (k = 0; k < 16; k++) {
+                vp[k] *= huge[i];
+            }
+            CHECK_ERR("a matrix of huge entries",
+                      katachi_cut_by_stroke(grid, s3, 2, vp, VIEWPORT, &o, &cut),
+                      KATACHI_STATUS_BAD_INPUT, "view-projection matrix entry");
+            for (k = 0; k < 4; k++) {
+                memcpy(viewport, VIEWPORT, sizeof viewport);
+                viewport[k] = fabs(huge[i]);
+                CHECK_ERR("a viewport value of huge magnitude",
+                          katachi_cut_by_stroke(grid, s3, 2, VIEW_PROJ, viewport, &o, &cut),
+                          KATACHI_STATUS_BAD_INPUT, "viewport");
+            }
+        }
+    }
+    katachi_mesh_free(grid);
+    /* A grid vertex under the stroke moved far off the plane, and one far aside. */
+    for (i = 0; i < 3; i++) {
+        for (k = 0; k < 2; k++) {
+            KatachiMesh *m = NULL;
+            uint32_t loop_sizes[GRID_F], face_loops[GRID_F], j;
+            KatachiStatus st;
+            double s[4] = {20.0, 330.0, 480.0, 140.0};
+            make_grid_positions();
+            grid_positions[3 * 12 + (k == 0 ? 2 : 0)] = huge[i];
+            for (j = 0; j < GRID_F; j++) {
+                loop_sizes[j] = 3;
+                face_loops[j] = 1;
+            }
+            CHECK_OK("a grid with a huge coordinate",
+                     katachi_mesh_create(grid_positions, GRID_V, loop_sizes, GRID_F, face_loops,
+                                         GRID_F, grid_corners, GRID_F * 3, &m));
+            for (mode = 0; mode < 2; mode++) {
+                o.mode = (uint32_t)mode;
+                st = katachi_cut_by_stroke(m, s, 2, VIEW_PROJ, VIEWPORT, &o, &cut);
+                CHECK("a huge coordinate cuts or is bad input",
+                      st == KATACHI_STATUS_OK || st == KATACHI_STATUS_BAD_INPUT);
+                if (st == KATACHI_STATUS_OK) {
+                    KatachiCutInfo info = katachi_cut_info_default();
+                    KatachiMesh *out = NULL;
+                    double *q;
+                    int finite = 1;
+                    uint32_t v;
+                    CHECK_OK("info", katachi_cut_info(cut, &info));
+                    CHECK_OK("mesh", katachi_cut_mesh(cut, &out));
+                    q = malloc(sizeof(double) * 3 * info.vertex_count);
+                    CHECK_OK("positions", katachi_mesh_copy_positions(out, q, 3 * (size_t)info.vertex_count));
+                    for (v = 0; v < 3 * info.vertex_count; v++) {
+                        finite = finite && isfinite(q[v]);
+                    }
+                    CHECK("every position is finite", finite);
+                    free(q);
+                    katachi_mesh_free(out);
+                    katachi_cut_free(cut);
+                    cut = NULL;
+                }
+            }
+            katachi_mesh_free(m);
+        }
+    }
+    make_grid_positions();
+}
+
 int main(void)
 {
     printf("katachi %s, stroke cut from C99\n", katachi_version_string());
@@ -1035,5 +1127,6 @@ int main(void)
     test_interpolation_without_snapping();
     test_polygons_layout();
     test_bad_input();
+    test_extreme_numbers();
     return check_finish();
 }

@@ -47,7 +47,8 @@ static void test_versions_and_statuses(void)
                                KATACHI_STATUS_INVALID_ARGUMENT == 2 &&
                                KATACHI_STATUS_BUFFER_TOO_SMALL == 3 &&
                                KATACHI_STATUS_BAD_INPUT == 4 && KATACHI_STATUS_BAD_TOPOLOGY == 5 &&
-                               KATACHI_STATUS_IO_ERROR == 6 && KATACHI_STATUS_INTERNAL_ERROR == 7);
+                               KATACHI_STATUS_IO_ERROR == 6 && KATACHI_STATUS_INTERNAL_ERROR == 7 &&
+                               KATACHI_STATUS_CANCELLED == 8);
     CHECK("katachi_status_name(OK)",
           strcmp(katachi_status_name(KATACHI_STATUS_OK), "KATACHI_STATUS_OK") == 0);
     CHECK("katachi_status_name(BUFFER_TOO_SMALL)",

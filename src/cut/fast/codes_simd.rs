@@ -1,13 +1,14 @@
-//! Pass 1 of [`super::grid`] (every vertex's grid code) four vertices at a time with
-//! AVX2, or eight with AVX-512, on CPUs that have them (detected at run time; the portable
-//! loop otherwise).
+//! Pass 1 of [`super::grid`] (every vertex's grid code) four vertices at a time with AVX2, or
+//! eight with AVX-512, on CPUs that have them (detected at run time; the portable loop
+//! otherwise).
 //!
 //! The lanes do the same IEEE operations in the same order as [`CellGrid::code`] (products
 //! and sums apart, no fused multiply-add; `max`/`min` that drop NaN the same way; truncating
 //! conversions), so the codes are bit-identical whichever path runs (unit test
-//! `simd_codes_match_the_portable_ones`) and the cut does not depend on the machine.
-//! Written by hand because the compiler vectorizes neither the array-of-structs positions
-//! nor the table lookup (the figures are in `docs/benchmarks.md`).
+//! `simd_codes_match_the_portable_ones`) and the cut does not depend on the machine. Every
+//! lane's table index is clamped into the table before it is read, whatever the point (NaN,
+//! huge, behind the eye). Written by hand because the compiler vectorizes neither the
+//! array-of-structs positions nor the table lookup.
 //!
 //! [`CellGrid::code`]: super::grid::CellGrid::code
 
@@ -15,6 +16,9 @@ use std::arch::x86_64::*;
 use std::mem::MaybeUninit;
 
 use glam::{DVec3, DVec4};
+
+use super::grid::GridPlace;
+use crate::cut::view::{ScreenRows, SCREEN_RANGE_PX};
 
 /// How far ahead (in f64s: 4.5 KiB of positions) the passes ask for their input, which the
 /// hardware's stream prefetch does not reach in time.
@@ -29,26 +33,31 @@ fn ahead(p: *const f64, lines: usize) {
 }
 
 /// Codes of `ps[..4k]` into `out[..4k]` (k = `ps.len() / 4`), returning 4k; the caller does
-/// the rest with the portable code. `near` is the grid's table of near flags, (nx + 2) × (ny + 2).
+/// the rest with the portable code. `near` is the grid's table of near flags,
+/// (nx + 2) × (ny + 2) and three bytes of padding.
 ///
 /// # Safety
-/// The CPU has AVX2; `out.len() >= ps.len()`; `near.len() == (nx + 2) * (ny + 2) + 3` (the
-/// table and its padding).
+/// The CPU has AVX2; `out.len() >= ps.len()`; `near.len() == (nx + 2) * (ny + 2) + 3` for
+/// `place`'s `nx` and `ny`.
 #[target_feature(enable = "avx2")]
 pub(crate) unsafe fn codes(
-    rows: &(DVec4, DVec4, DVec4),
+    view: &ScreenRows,
+    place: &GridPlace,
     near: &[u8],
-    nx: i32,
-    ny: i32,
     ps: &[DVec3],
     out: &mut [MaybeUninit<u32>],
 ) -> usize {
+    let (nx, ny) = (place.nx, place.ny);
     debug_assert!(out.len() >= ps.len());
     debug_assert_eq!(near.len(), ((nx + 2) * (ny + 2)) as usize + 3);
     let b = |v: f64| _mm256_set1_pd(v);
     let row = |r: DVec4| (b(r.x), b(r.y), b(r.z), b(r.w));
-    let (r0, r1, r2) = (row(rows.0), row(rows.1), row(rows.2));
-    let (zero, one) = (_mm256_setzero_pd(), b(1.0));
+    let (rx, ry, rw) = (row(view.x), row(view.y), row(view.w));
+    let (zero, one, inf) = (_mm256_setzero_pd(), b(1.0), b(f64::INFINITY));
+    let (x0, y0, hw, hh) = (b(view.x0), b(view.y0), b(view.half_w), b(view.half_h));
+    let (ox, oy, ic) = (b(place.origin.x), b(place.origin.y), b(place.inv_cell));
+    let range = b(SCREEN_RANGE_PX);
+    let sign = b(-0.0);
     let (hx, hy) = (b(nx as f64 + 1.0), b(ny as f64 + 1.0));
     let stride = _mm_set1_epi32(nx + 2);
     let ones = _mm_set1_epi32(-1);
@@ -81,15 +90,31 @@ pub(crate) unsafe fn codes(
                 a.3,
             )
         };
-        let w = dot(r2);
-        let front = _mm256_castpd_si256(_mm256_cmp_pd::<_CMP_GT_OQ>(w, zero));
+        let w = dot(rw);
+        let front = _mm256_and_pd(
+            _mm256_cmp_pd::<_CMP_GT_OQ>(w, zero),
+            _mm256_cmp_pd::<_CMP_LT_OQ>(w, inf),
+        );
         let inv = _mm256_div_pd(one, w);
-        // `max_pd(v, 0)` is 0 for NaN v, as `f64::max`.
-        let clamp = |v: __m256d, h: __m256d| _mm256_min_pd(_mm256_max_pd(v, zero), h);
-        let cx = _mm256_cvttpd_epi32(clamp(_mm256_mul_pd(dot(r0), inv), hx));
-        let cy = _mm256_cvttpd_epi32(clamp(_mm256_mul_pd(dot(r1), inv), hy));
+        // The screen point, as `Projector::screen_of`: x0 + (x/w + 1)·hw, y0 + (1 − y/w)·hh.
+        let sx = _mm256_add_pd(
+            x0,
+            _mm256_mul_pd(_mm256_add_pd(_mm256_mul_pd(dot(rx), inv), one), hw),
+        );
+        let sy = _mm256_add_pd(
+            y0,
+            _mm256_mul_pd(_mm256_sub_pd(one, _mm256_mul_pd(dot(ry), inv)), hh),
+        );
+        let within = |s: __m256d| _mm256_cmp_pd::<_CMP_LE_OQ>(_mm256_andnot_pd(sign, s), range);
+        let seen = _mm256_castpd_si256(_mm256_and_pd(front, _mm256_and_pd(within(sx), within(sy))));
+        // The cell plus one, clamped into [0, n + 1] (`max_pd(v, 0)` is 0 for NaN v, as
+        // `f64::max`), so every lane's index is in the table.
+        let cell = |s: __m256d, o: __m256d, h: __m256d| {
+            let q = _mm256_add_pd(_mm256_mul_pd(_mm256_sub_pd(s, o), ic), one);
+            _mm256_cvttpd_epi32(_mm256_min_pd(_mm256_max_pd(q, zero), h))
+        };
+        let (cx, cy) = (cell(sx, ox, hx), cell(sy, oy, hy));
         let at = _mm_add_epi32(_mm_mullo_epi32(cy, stride), cx);
-        // Clamped, so in the table even behind the eye.
         let near_at = |k: i32| *near.get_unchecked(k as usize) as i32;
         let nb = _mm_setr_epi32(
             near_at(_mm_extract_epi32::<0>(at)),
@@ -101,12 +126,12 @@ pub(crate) unsafe fn codes(
             _mm_or_si128(cx, _mm_slli_epi32::<16>(cy)),
             _mm_slli_epi32::<24>(nb),
         );
-        // The 64-bit "in front" masks narrowed to 32 bits; behind the eye: all ones (BEHIND).
-        let front32 = _mm_castps_si128(_mm_shuffle_ps::<0b10_00_10_00>(
-            _mm_castsi128_ps(_mm256_castsi256_si128(front)),
-            _mm_castsi128_ps(_mm256_extracti128_si256::<1>(front)),
+        // The 64-bit "seen" masks narrowed to 32 bits; unseen: all ones (BEHIND).
+        let seen32 = _mm_castps_si128(_mm_shuffle_ps::<0b10_00_10_00>(
+            _mm_castsi128_ps(_mm256_castsi256_si128(seen)),
+            _mm_castsi128_ps(_mm256_extracti128_si256::<1>(seen)),
         ));
-        let code = _mm_or_si128(code, _mm_xor_si128(front32, ones));
+        let code = _mm_or_si128(code, _mm_xor_si128(seen32, ones));
         _mm_storeu_si128(dst.add(i), code);
     }
     4 * n4
@@ -118,19 +143,22 @@ pub(crate) unsafe fn codes(
 /// As [`codes`], and the CPU also has AVX-512 F and VL.
 #[target_feature(enable = "avx512f,avx512vl,avx2")]
 pub(crate) unsafe fn codes8(
-    rows: &(DVec4, DVec4, DVec4),
+    view: &ScreenRows,
+    place: &GridPlace,
     near: &[u8],
-    nx: i32,
-    ny: i32,
     ps: &[DVec3],
     out: &mut [MaybeUninit<u32>],
 ) -> usize {
+    let (nx, ny) = (place.nx, place.ny);
     debug_assert!(out.len() >= ps.len());
     debug_assert_eq!(near.len(), ((nx + 2) * (ny + 2)) as usize + 3);
     let b = |v: f64| _mm512_set1_pd(v);
     let row = |r: DVec4| (b(r.x), b(r.y), b(r.z), b(r.w));
-    let (r0, r1, r2) = (row(rows.0), row(rows.1), row(rows.2));
-    let (zero, one) = (_mm512_setzero_pd(), b(1.0));
+    let (rx, ry, rw) = (row(view.x), row(view.y), row(view.w));
+    let (zero, one, inf) = (_mm512_setzero_pd(), b(1.0), b(f64::INFINITY));
+    let (x0, y0, hw, hh) = (b(view.x0), b(view.y0), b(view.half_w), b(view.half_h));
+    let (ox, oy, ic) = (b(place.origin.x), b(place.origin.y), b(place.inv_cell));
+    let range = b(SCREEN_RANGE_PX);
     let (hx, hy) = (b(nx as f64 + 1.0), b(ny as f64 + 1.0));
     let stride = _mm256_set1_epi32(nx + 2);
     let ones = _mm256_set1_epi32(-1);
@@ -169,12 +197,25 @@ pub(crate) unsafe fn codes8(
                 a.3,
             )
         };
-        let w = dot(r2);
-        let front = _mm512_cmp_pd_mask::<_CMP_GT_OQ>(w, zero);
+        let w = dot(rw);
+        let front =
+            _mm512_cmp_pd_mask::<_CMP_GT_OQ>(w, zero) & _mm512_cmp_pd_mask::<_CMP_LT_OQ>(w, inf);
         let inv = _mm512_div_pd(one, w);
-        let clamp = |v: __m512d, h: __m512d| _mm512_min_pd(_mm512_max_pd(v, zero), h);
-        let cx = _mm512_cvttpd_epi32(clamp(_mm512_mul_pd(dot(r0), inv), hx));
-        let cy = _mm512_cvttpd_epi32(clamp(_mm512_mul_pd(dot(r1), inv), hy));
+        let sx = _mm512_add_pd(
+            x0,
+            _mm512_mul_pd(_mm512_add_pd(_mm512_mul_pd(dot(rx), inv), one), hw),
+        );
+        let sy = _mm512_add_pd(
+            y0,
+            _mm512_mul_pd(_mm512_sub_pd(one, _mm512_mul_pd(dot(ry), inv)), hh),
+        );
+        let within = |s: __m512d| _mm512_cmp_pd_mask::<_CMP_LE_OQ>(_mm512_abs_pd(s), range);
+        let seen = front & within(sx) & within(sy);
+        let cell = |s: __m512d, o: __m512d, h: __m512d| {
+            let q = _mm512_add_pd(_mm512_mul_pd(_mm512_sub_pd(s, o), ic), one);
+            _mm512_cvttpd_epi32(_mm512_min_pd(_mm512_max_pd(q, zero), h))
+        };
+        let (cx, cy) = (cell(sx, ox, hx), cell(sy, oy, hy));
         let at = _mm256_add_epi32(_mm256_mullo_epi32(cy, stride), cx);
         // Each cell's flags as the low byte of a four-byte gather (the table's padding keeps
         // the last cell's read inside it).
@@ -186,7 +227,7 @@ pub(crate) unsafe fn codes8(
             _mm256_or_si256(cx, _mm256_slli_epi32::<16>(cy)),
             _mm256_slli_epi32::<24>(nb),
         );
-        _mm256_storeu_si256(dst.add(i), _mm256_mask_mov_epi32(ones, front, code));
+        _mm256_storeu_si256(dst.add(i), _mm256_mask_mov_epi32(ones, seen, code));
     }
     8 * n8
 }

@@ -16,10 +16,10 @@
 
 use std::mem::MaybeUninit;
 
-use glam::{DVec2, DVec3, DVec4};
+use glam::{DVec2, DVec3};
 use rayon::prelude::*;
 
-use crate::cut::view::Projector;
+use crate::cut::view::{Projector, ScreenRows, SCREEN_RANGE_PX};
 use crate::mesh::VertexId;
 
 /// Vertex code for "behind the eye".
@@ -65,6 +65,15 @@ pub(crate) struct CellGrid {
     /// centre (with a relative slack of 1e-6, far above rounding, [`wide_reach`]): a superset
     /// of those its eight neighbours list (each of their centres is a diagonal away).
     wide: CellLists,
+}
+
+/// Where a grid lies on screen: its corner, one over its cells' width, its cells along x and y.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct GridPlace {
+    pub origin: DVec2,
+    pub inv_cell: f64,
+    pub nx: i32,
+    pub ny: i32,
 }
 
 /// Segments listed per cell: `list[runs.get(cx, cy)]`.
@@ -144,19 +153,24 @@ impl CellRuns {
 impl CellGrid {
     /// `segments[i]` = (a, b); `margin` ≥ 0 pixels; cells about `cell_hint` pixels wide
     /// (the expected edge length: a band of cells then holds few faces beyond those the
-    /// stroke meets), at most 2048 along a side and 2^20 in all.
+    /// stroke meets), at most 2048 along a side and 2^20 in all, whatever the numbers: the
+    /// segments lie within the screen range ([`SCREEN_RANGE_PX`]), and a margin or hint
+    /// beyond it is taken as the range (the grid then covers everything a cut can see).
     pub fn new(segments: &[(DVec2, DVec2)], margin: f64, cell_hint: f64) -> Self {
+        let limit = 4.0 * SCREEN_RANGE_PX;
+        let margin = margin.clamp(0.0, limit);
         let mut lo = DVec2::splat(f64::INFINITY);
         let mut hi = DVec2::splat(f64::NEG_INFINITY);
         for &(a, b) in segments {
             lo = lo.min(a).min(b);
             hi = hi.max(a).max(b);
         }
+        debug_assert!(crate::cut::view::in_range(lo) && crate::cut::view::in_range(hi));
         lo -= DVec2::splat(margin);
         hi += DVec2::splat(margin);
         let ext = hi - lo;
         let long = ext.x.max(ext.y);
-        let mut cell = cell_hint.max(long / 2048.0).max(1e-6);
+        let mut cell = cell_hint.min(limit).max(long / 2048.0).max(1e-6);
         if (ext.x / cell + 1.0) * (ext.y / cell + 1.0) > (1u64 << 20) as f64 {
             cell = ((ext.x * ext.y) / (1u64 << 20) as f64).sqrt().max(cell);
         }
@@ -166,10 +180,11 @@ impl CellGrid {
         lo -= pad;
         hi += pad;
         let ext = hi - lo;
-        let nx = ((ext.x / cell).ceil() as i32).max(1);
-        let ny = ((ext.y / cell).ceil() as i32).max(1);
-        // Codes hold x + 1 in 16 bits and y + 1 in 12 (a side has at most 2048 cells and the
-        // border).
+        // Codes hold x + 1 in 16 bits and y + 1 in 12: a side has at most 2048 cells and the
+        // border (clamped too, so no rounding can make more).
+        let side =
+            |e: f64| ((e / cell).ceil().max(1.0) as i32).min(2048 + 2 * NEAR_RING as i32 + 4);
+        let (nx, ny) = (side(ext.x), side(ext.y));
         debug_assert!(nx + 2 <= 0xffff && ny + 2 <= 0xfff);
         let inv_cell = 1.0 / cell;
         let (wide_reach, geometry) = (wide_reach(margin, cell), (lo, cell, nx, ny));
@@ -249,29 +264,46 @@ impl CellGrid {
         Some(self.wide.at((x0 + x1) / 2, (y0 + y1) / 2))
     }
 
-    /// The vertex code of a world point seen through `rows` ([`Projector::cell_rows`] for
-    /// this grid): its cell, clamped to one outside ring, packed (x in bits 0-15, y in 16-27,
-    /// both offset by one so the ring below is 0), with the cell's [`NEAR`], [`CLOSE`],
-    /// [`MARKED`] and [`MID`] flags in bits 31, 30, 29 and 28; [`BEHIND`] behind the eye.
-    /// Branch-free but for the eye test; NaN clamps to the ring (`f64::max` drops it). (No
-    /// `floor`: without SSE4.1 it is a libm call.)
+    /// Where the grid lies on screen, for the passes that place points in it.
+    pub fn place(&self) -> GridPlace {
+        GridPlace {
+            origin: self.origin,
+            inv_cell: self.inv_cell,
+            nx: self.nx,
+            ny: self.ny,
+        }
+    }
+
+    /// The vertex code of world point `p` seen through `view` ([`Projector::screen_rows`]:
+    /// [`Projector::screen_of`]'s arithmetic, operation by operation): its cell, clamped to
+    /// one outside ring, packed (x in bits 0-15, y in 16-27, both offset by one so the ring
+    /// below is 0), with the cell's [`NEAR`], [`CLOSE`], [`MARKED`] and [`MID`] flags in bits
+    /// 31, 30, 29 and 28; [`BEHIND`] when the projector does not see it (behind the eye, or
+    /// beyond the screen range). (No `floor`: without SSE4.1 it is a libm call.)
     #[inline]
-    pub fn code(&self, rows: &(DVec4, DVec4, DVec4), p: DVec3) -> u32 {
+    pub fn code(&self, view: &ScreenRows, p: DVec3) -> u32 {
         let h = p.extend(1.0);
-        let w = rows.2.dot(h);
-        if w.is_nan() || w <= 0.0 {
+        let w = view.w.dot(h);
+        if !(w > 0.0 && w < f64::INFINITY) {
             return BEHIND;
         }
         let inv = 1.0 / w;
-        // Clamped to [0, n + 1] (NaN → 0: `f64::max` drops it), so the casts cannot overflow
-        // and the index is inside the (nx + 2) × (ny + 2) table ([`CellGrid::new`] bounds nx
-        // and ny). Unchecked because this is the whole-mesh pass.
+        let sx = view.x0 + (view.x.dot(h) * inv + 1.0) * view.half_w;
+        let sy = view.y0 + (1.0 - view.y.dot(h) * inv) * view.half_h;
+        if !(sx.abs() <= SCREEN_RANGE_PX && sy.abs() <= SCREEN_RANGE_PX) {
+            return BEHIND;
+        }
+        // The cell plus one, clamped to [0, n + 1] (NaN → 0: `f64::max` drops it), so the
+        // casts cannot overflow and the index is inside the (nx + 2) × (ny + 2) table.
+        // Unchecked because this is the whole-mesh pass.
         let clamp = |x: f64, n: i32| x.max(0.0).min(n as f64 + 1.0);
         // SAFETY: as above, finite values in [0, n + 1].
         let (cx, cy) = unsafe {
             (
-                clamp(rows.0.dot(h) * inv, self.nx).to_int_unchecked::<i32>() as u32,
-                clamp(rows.1.dot(h) * inv, self.ny).to_int_unchecked::<i32>() as u32,
+                clamp((sx - self.origin.x) * self.inv_cell + 1.0, self.nx).to_int_unchecked::<i32>()
+                    as u32,
+                clamp((sy - self.origin.y) * self.inv_cell + 1.0, self.ny).to_int_unchecked::<i32>()
+                    as u32,
             )
         };
         let at = (cy * (self.nx as u32 + 2) + cx) as usize;
@@ -283,26 +315,26 @@ impl CellGrid {
 
     /// [`code`](Self::code) of every point of `ps` into `out`, eight at a time with AVX-512
     /// or four with AVX2 when the CPU has it (same bits).
-    fn codes_into(&self, rows: &(DVec4, DVec4, DVec4), ps: &[DVec3], out: &mut [MaybeUninit<u32>]) {
+    fn codes_into(&self, view: &ScreenRows, ps: &[DVec3], out: &mut [MaybeUninit<u32>]) {
         #[allow(unused_mut)]
         let mut done = 0;
         #[cfg(target_arch = "x86_64")]
         if std::arch::is_x86_feature_detected!("avx2") {
             let wide = std::arch::is_x86_feature_detected!("avx512f")
                 && std::arch::is_x86_feature_detected!("avx512vl");
-            let (near, nx, ny) = (&self.near, self.nx, self.ny);
+            let place = self.place();
             // SAFETY: AVX2 (and for `codes8` AVX-512 F and VL) is there; `out` is as long as
             // `ps`; `near` is (nx + 2) × (ny + 2) and its padding.
             done = unsafe {
                 if wide {
-                    super::codes_simd::codes8(rows, near, nx, ny, ps, out)
+                    super::codes_simd::codes8(view, &place, &self.near, ps, out)
                 } else {
-                    super::codes_simd::codes(rows, near, nx, ny, ps, out)
+                    super::codes_simd::codes(view, &place, &self.near, ps, out)
                 }
             };
         }
         for (o, p) in out[done..].iter_mut().zip(&ps[done..]) {
-            o.write(self.code(rows, *p));
+            o.write(self.code(view, *p));
         }
     }
 
@@ -559,13 +591,13 @@ pub(crate) fn within(p: DVec2, a: DVec2, b: DVec2, r: f64) -> bool {
 
 /// Pass 1: every vertex's code.
 pub(crate) fn vertex_codes(positions: &[DVec3], proj: &Projector, grid: &CellGrid) -> Vec<u32> {
-    let rows = proj.cell_rows(grid.origin, grid.inv_cell);
+    let view = proj.screen_rows();
     let mut codes: Vec<u32> = crate::mem::with_capacity(positions.len());
     // Chunks written in place.
     codes.spare_capacity_mut()[..positions.len()]
         .par_chunks_mut(CHUNK)
         .zip(positions.par_chunks(CHUNK))
-        .for_each(|(out, ps)| grid.codes_into(&rows, ps, out));
+        .for_each(|(out, ps)| grid.codes_into(&view, ps, out));
     // SAFETY: every one of the first `positions.len()` elements was written above.
     unsafe { codes.set_len(positions.len()) };
     codes
@@ -769,6 +801,7 @@ pub(crate) fn sample_edge_length(
 #[cfg(test)]
 mod tests {
     use super::{floor_i32, CellGrid, BEHIND};
+    use crate::cut::view::SCREEN_RANGE_PX;
     use crate::cut::view::{Projector, View};
     use glam::{DMat4, DVec2, DVec3};
 
@@ -789,7 +822,7 @@ mod tests {
             (DVec2::new(700.0, 400.0), DVec2::new(300.0, 550.0)),
         ];
         let grid = CellGrid::new(&segs, 6.0, 4.0);
-        let rows = proj.cell_rows(grid.origin, grid.inv_cell);
+        let view = proj.screen_rows();
         // A deterministic spread: a lattice with irrational steps, plus special values.
         let mut ps: Vec<DVec3> = (0..20_000)
             .map(|i| {
@@ -817,7 +850,23 @@ mod tests {
             ps.push(proj.unproject(s, 3.0, 0.5));
             ps.push(proj.unproject(s + DVec2::new(0.0, 0.5 * grid.cell), 5.0, -0.2));
         }
-        let portable: Vec<u32> = ps.iter().map(|&p| grid.code(&rows, p)).collect();
+        // Points seen far off screen, at the edge of the screen range and beyond it.
+        for k in -8..8 {
+            let edge = SCREEN_RANGE_PX * (1.0 + k as f64 * 1e-16);
+            for s in [
+                DVec2::new(edge, 300.0),
+                DVec2::new(-edge, 300.0),
+                DVec2::new(400.0, edge),
+            ] {
+                ps.push(proj.unproject(s, 2.0, 0.3));
+            }
+            ps.push(eye + DVec3::new(1.0, 0.0, 0.0) * 10f64.powi(k) + DVec3::new(0.0, 1e-12, 0.0));
+        }
+        let portable: Vec<u32> = ps.iter().map(|&p| grid.code(&view, p)).collect();
+        // Behind exactly where the projector does not see a point.
+        for (p, &c) in ps.iter().zip(&portable) {
+            assert_eq!(c == BEHIND, proj.screen_of(*p).is_none(), "{p}");
+        }
         let check = |name: &str, done: usize, simd: &[std::mem::MaybeUninit<u32>], lanes: usize| {
             assert_eq!(done, ps.len() / lanes * lanes, "{name}");
             for (i, (a, b)) in portable.iter().zip(&simd[..done]).enumerate() {
@@ -833,7 +882,7 @@ mod tests {
         let mut simd = vec![std::mem::MaybeUninit::new(0u32); ps.len()];
         // SAFETY: AVX2 checked; sizes as required.
         let done = unsafe {
-            super::super::codes_simd::codes(&rows, &grid.near, grid.nx, grid.ny, &ps, &mut simd)
+            super::super::codes_simd::codes(&view, &grid.place(), &grid.near, &ps, &mut simd)
         };
         check("AVX2", done, &simd, 4);
         if std::arch::is_x86_feature_detected!("avx512f")
@@ -842,9 +891,7 @@ mod tests {
             let mut simd = vec![std::mem::MaybeUninit::new(0u32); ps.len()];
             // SAFETY: AVX-512 F, VL and AVX2 checked; sizes as required.
             let done = unsafe {
-                super::super::codes_simd::codes8(
-                    &rows, &grid.near, grid.nx, grid.ny, &ps, &mut simd,
-                )
+                super::super::codes_simd::codes8(&view, &grid.place(), &grid.near, &ps, &mut simd)
             };
             check("AVX-512", done, &simd, 8);
         } else {

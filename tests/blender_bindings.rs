@@ -604,7 +604,13 @@ fn the_parsers_see_everything() {
         ["uint32_t", "uint32_t", "void*"]
     );
     let pcb = python_callbacks(&py);
-    assert_eq!(pcb.keys().collect::<Vec<_>>(), ["KatachiProgressFn"]);
+    assert_eq!(
+        pcb.keys().collect::<Vec<_>>(),
+        ["KatachiCutProgressFn", "KatachiProgressFn"]
+    );
+    let cut_progress = &hcb["KatachiCutProgressFn"];
+    assert_eq!(cut_progress.ret.to_string(), "uint32_t");
+    assert_eq!(pcb["KatachiCutProgressFn"], *cut_progress);
     let with_progress = &hf["katachi_subdivide_with_progress"];
     assert_eq!(with_progress.args[2].to_string(), "KatachiProgressFn");
     assert_eq!(
@@ -613,7 +619,7 @@ fn the_parsers_see_everything() {
     );
     let constants = python_constants(&py);
     assert_eq!(constants.get("KATACHI_ABI_VERSION"), Some(&2));
-    assert_eq!(constants.len(), 27, "{constants:?}");
+    assert_eq!(constants.len(), 28, "{constants:?}");
 }
 
 /// The stroke cut's part of the header is bound in full: every `katachi_cut_*` function,

@@ -894,6 +894,148 @@ fn opening_a_loop_on_a_sphere_gives_two_disks() {
     }
 }
 
+/// Every edge of the input sharp, then an opened cut, through all sheets and visible only:
+/// every sharp edge of the result is an edge of it, so the result writes as an OBJ that reads
+/// back with its creases (a through-all opened cut used to keep the crease of an edge whose
+/// faces all moved to the copies, and the OBJ reader refused the file). Pieces of split
+/// sharp edges and both sides of an opened sharp edge stay sharp, so no crease is lost.
+#[test]
+fn creases_follow_an_opened_cut_onto_edges_that_exist() {
+    use katachi::io::{read_bytes, write_to, Format, WriteOptions};
+    let sphere = icosphere(2);
+    let grid = tri_grid(8, 8);
+    type Case = (PolyMesh, View, Vec<(f64, f64)>);
+    let cases: Vec<Case> = vec![
+        (
+            sphere.clone(),
+            perspective(DVec3::new(0.3, 0.2, 4.0), DVec3::ZERO),
+            vec![(250.0, 260.0), (400.0, 300.0), (560.0, 330.0)],
+        ),
+        (
+            sphere,
+            top_view(-1.5, 1.5, -1.5, 1.5, 0.005),
+            (0..=24)
+                .map(|i| {
+                    let a = std::f64::consts::TAU * i as f64 / 24.0;
+                    (300.0 + 110.0 * a.cos(), 300.0 + 90.0 * a.sin())
+                })
+                .collect(),
+        ),
+        (
+            grid,
+            top_view(-0.5, 8.5, -0.5, 8.5, 0.02),
+            vec![px(-0.2, 3.0), px(3.0, 3.0), px(5.0, 4.0), px(8.3, 4.5)],
+        ),
+    ];
+    for (k, (mesh, view, pts)) in cases.into_iter().enumerate() {
+        let mut m = mesh.clone();
+        let all: Vec<(VertexId, VertexId, f64)> = edge_set(&mesh)
+            .into_iter()
+            .map(|(a, b)| (VertexId(a), VertexId(b), 2.0))
+            .collect();
+        m.set_edge_sharpnesses(all.iter().copied()).unwrap();
+        for mode in [CutMode::ThroughAll, CutMode::VisibleOnly] {
+            let mut o = CutOptions::with_mode(mode);
+            o.open = true;
+            let out = cut(&m, &pts, &view, &o);
+            assert!(
+                !out.report.paths.is_empty(),
+                "case {k} {mode:?}: nothing cut"
+            );
+            let edges = edge_set(&out.mesh);
+            let sharp: Vec<(u32, u32)> =
+                out.mesh.sharp_edges().map(|(a, b, _)| (a.0, b.0)).collect();
+            let missing: Vec<&(u32, u32)> = sharp.iter().filter(|e| !edges.contains(e)).collect();
+            assert!(
+                missing.is_empty(),
+                "case {k} {mode:?}: creases on missing edges {missing:?}"
+            );
+            assert!(sharp.len() >= all.len(), "case {k} {mode:?}: creases lost");
+            let mut obj = Vec::new();
+            write_to(&mut obj, Format::Obj, &out.mesh, &WriteOptions::default()).unwrap();
+            let back = read_bytes(&obj, Format::Obj, std::path::Path::new("cut.obj"))
+                .unwrap_or_else(|e| panic!("case {k} {mode:?}: {e}"));
+            assert_eq!(back.sharp_edges().count(), sharp.len());
+        }
+    }
+}
+
+/// An Archimedean spiral of `n` points about `c`, `step` pixels apart along it and `gap`
+/// pixels between its turns: a stroke that never crosses itself, as long as one likes.
+fn spiral(n: usize, c: DVec2, step: f64, gap: f64) -> Vec<(f64, f64)> {
+    let k = gap / std::f64::consts::TAU;
+    let mut t: f64 = 2.0 * std::f64::consts::PI;
+    (0..n)
+        .map(|_| {
+            let r = k * t;
+            let p = (c.x + r * t.cos(), c.y + r * t.sin());
+            // d(arc)/dθ ≈ r for a loose spiral.
+            t += step / (r * r + k * k).sqrt();
+            p
+        })
+        .collect()
+}
+
+/// Issue 34: a 200,000-point stroke over a small mesh used to take 27 s (every pair of its
+/// segments was tested for crossing); now it is cut (its speed is in `benches/cut.rs`).
+/// Every step is reported in order and the result is a valid mesh.
+#[test]
+fn a_200000_point_stroke_is_cut_with_progress_after_each_step() {
+    let m = triangulate_cube();
+    let v = perspective(DVec3::new(2.0, 1.5, 3.0), DVec3::ZERO);
+    let pts = spiral(200_000, DVec2::new(400.0, 300.0), 2.5, 4.0);
+    let mut seen = Vec::new();
+    let out = katachi::cut::cut_by_stroke_with_progress(
+        &m,
+        &stroke(&pts),
+        &v,
+        &through_all(),
+        &mut |done, total| {
+            seen.push((done, total));
+            true
+        },
+    )
+    .unwrap();
+    let total = katachi::cut::CUT_STEPS;
+    assert_eq!(seen, (1..=total).map(|k| (k, total)).collect::<Vec<_>>());
+    assert!(out.report.split_faces > 0);
+    check_valid(&m, &out);
+}
+
+/// The unit cube, triangulated (12 faces).
+fn triangulate_cube() -> PolyMesh {
+    cut_meshes::triangulate_quads(&shapes::cube(1.0).unwrap())
+}
+
+/// Cancelling at each step: [`Error::Cancelled`] of kind Cancelled, no more calls after it,
+/// and cutting again gives the same result as a cut that was never cancelled.
+#[test]
+fn cancelling_a_cut_at_any_step_stops_it_with_a_typed_error() {
+    let (m, v) = grid_scene();
+    let pts = [px(1.2, 2.6), px(4.0, 3.1), px(6.3, 3.4)];
+    let mut o = through_all();
+    o.open = true;
+    let whole = cut(&m, &pts, &v, &o);
+    for stop in 1..=katachi::cut::CUT_STEPS {
+        let mut calls = 0;
+        let r =
+            katachi::cut::cut_by_stroke_with_progress(&m, &stroke(&pts), &v, &o, &mut |done, _| {
+                calls += 1;
+                done < stop
+            });
+        match r {
+            Err(e @ Error::Cancelled { .. }) => {
+                assert_eq!(e.kind(), katachi::ErrorKind::Cancelled);
+                assert!(e.to_string().contains("cancelled"), "{e}");
+            }
+            r => panic!("stop at {stop}: {:?}", r.map(|c| c.report)),
+        }
+        assert_eq!(calls, stop);
+    }
+    let again = cut(&m, &pts, &v, &o);
+    assert_eq!(bits(&again), bits(&whole));
+}
+
 // ---------------------------------------------------------------- determinism (T7)
 
 fn bits(out: &CutOutput) -> (Vec<[u64; 3]>, Vec<u32>, Vec<u32>) {
@@ -1079,6 +1221,47 @@ fn a_non_manifold_edge_under_the_stroke_is_an_error_and_elsewhere_is_not() {
         "{e}"
     );
     // A stroke far from the fin cuts.
+    let out = cut(&m, &[px(1.2, 6.6), px(6.3, 6.4)], &v, &through_all());
+    assert_eq!(out.report.paths.len(), 1);
+}
+
+/// A bow-tie vertex under the stroke (spec §1: vertex links are single fans): grid vertex
+/// (4, 4) with the faces of cells (3, 4) and (4, 3) removed, so its faces in cells (3, 3) and
+/// (4, 4) touch only at it. An error naming it in both modes, opened or not (the cut used to
+/// snap and open it as one surface); a stroke far from it cuts.
+#[test]
+fn a_bow_tie_vertex_under_the_stroke_is_an_error_and_elsewhere_is_not() {
+    let g = tri_grid(8, 8);
+    let cell_of = |f: &[u32]| {
+        let (x, y) = (
+            f.iter().map(|v| v % 9).min().unwrap(),
+            f.iter().map(|v| v / 9).min().unwrap(),
+        );
+        (x, y)
+    };
+    let faces: Vec<Vec<u32>> = g
+        .faces()
+        .map(|f| g.face_outer(f).iter().map(|v| v.0).collect::<Vec<u32>>())
+        .filter(|f| !matches!(cell_of(f), (3, 4) | (4, 3)))
+        .collect();
+    let m = PolyMesh::from_polygons(g.positions().to_vec(), faces).unwrap();
+    assert!(inspect(&m).is_ok(), "edge-manifold");
+    let v = top_view(-0.5, 8.5, -0.5, 8.5, 0.02);
+    for pts in [[px(2.5, 2.6), px(5.5, 5.4)], [px(1.2, 4.1), px(6.3, 4.2)]] {
+        for mode in [CutMode::VisibleOnly, CutMode::ThroughAll] {
+            for open in [false, true] {
+                let mut o = CutOptions::with_mode(mode);
+                o.open = open;
+                match cut_by_stroke(&m, &stroke(&pts), &v, &o) {
+                    Err(Error::NonManifoldVertex {
+                        vertex: 40,
+                        fans: 2,
+                    }) => {}
+                    r => panic!("{pts:?} {mode:?} open {open}: {:?}", r.map(|c| c.report)),
+                }
+            }
+        }
+    }
     let out = cut(&m, &[px(1.2, 6.6), px(6.3, 6.4)], &v, &through_all());
     assert_eq!(out.report.paths.len(), 1);
 }

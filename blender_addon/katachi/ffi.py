@@ -44,6 +44,7 @@ KATACHI_STATUS_BAD_INPUT = 4
 KATACHI_STATUS_BAD_TOPOLOGY = 5
 KATACHI_STATUS_IO_ERROR = 6
 KATACHI_STATUS_INTERNAL_ERROR = 7
+KATACHI_STATUS_CANCELLED = 8
 KATACHI_HOLE_METHOD_SMOOTH = 0
 KATACHI_HOLE_METHOD_SHARP = 1
 KATACHI_BOUNDARY_EDGE_ONLY = 0
@@ -218,6 +219,7 @@ class KatachiCutPolygonsInfo(ctypes.Structure):
 # ---- callbacks (checked against include/katachi.h by tests/blender_bindings.rs) ----
 # CFUNCTYPE(return type, argument types...): a C function-pointer typedef.
 KatachiProgressFn = CFUNCTYPE(None, c_uint32, c_uint32, c_void_p)
+KatachiCutProgressFn = CFUNCTYPE(c_uint32, c_uint32, c_uint32, c_void_p)
 # ---- end of callbacks ----
 
 
@@ -268,6 +270,7 @@ FUNCTIONS = {
     "katachi_cut_options_default": (KatachiCutOptions, []),
     "katachi_cut_info_default": (KatachiCutInfo, []),
     "katachi_cut_by_stroke": (KatachiStatus, [POINTER(KatachiMesh), POINTER(c_double), c_uint32, POINTER(c_double), POINTER(c_double), POINTER(KatachiCutOptions), POINTER(POINTER(KatachiCut))]),
+    "katachi_cut_by_stroke_with_progress": (KatachiStatus, [POINTER(KatachiMesh), POINTER(c_double), c_uint32, POINTER(c_double), POINTER(c_double), POINTER(KatachiCutOptions), KatachiCutProgressFn, c_void_p, POINTER(POINTER(KatachiCut))]),
     "katachi_cut_free": (None, [POINTER(KatachiCut)]),
     "katachi_cut_info": (KatachiStatus, [POINTER(KatachiCut), POINTER(KatachiCutInfo)]),
     "katachi_cut_mesh": (KatachiStatus, [POINTER(KatachiCut), POINTER(POINTER(KatachiMesh))]),

@@ -3,6 +3,8 @@
 //! snapped vertices moved and the new ones appended. No whole-mesh validation (the pieces are
 //! valid by construction; debug builds check).
 
+use std::collections::{BTreeMap, BTreeSet};
+
 use glam::DVec3;
 use rayon::prelude::*;
 
@@ -105,5 +107,54 @@ fn carry_attributes(input: &PolyMesh, out: &mut PolyMesh, face_origin: &[FaceId]
             }
         }
     }
+    follow_opening(&mut sharp, out, e);
     out.attributes.edge_sharpness = sharp;
+}
+
+/// A sharp edge at a vertex the opening copied: after the opening the edge runs between the
+/// vertices or copies whose faces hold it (one side of the slit, or both for an edge along
+/// it), and the sharpness goes to each edge that exists, none to one that no longer does
+/// (a crease on a missing edge makes an OBJ katachi cannot read back).
+fn follow_opening(sharp: &mut BTreeMap<(u32, u32), f64>, out: &PolyMesh, e: &CutEdits) {
+    if e.copy_of.is_empty() || sharp.is_empty() {
+        return;
+    }
+    // Each copied vertex with its copies.
+    let mut variants: BTreeMap<u32, Vec<u32>> = BTreeMap::new();
+    for (i, &v) in e.copy_of.iter().enumerate() {
+        variants
+            .entry(v)
+            .or_insert_with(|| vec![v])
+            .push(e.first_copy + i as u32);
+    }
+    let at_copied: Vec<((u32, u32), f64)> = sharp
+        .iter()
+        .filter(|(&(a, b), _)| variants.contains_key(&a) || variants.contains_key(&b))
+        .map(|(&k, &s)| (k, s))
+        .collect();
+    if at_copied.is_empty() {
+        return;
+    }
+    let touched: BTreeSet<u32> = variants.values().flatten().copied().collect();
+    let mut edges: BTreeSet<(u32, u32)> = BTreeSet::new();
+    for t in out.corners().chunks_exact(3) {
+        if t.iter().any(|v| touched.contains(&v.0)) {
+            for i in 0..3 {
+                let (a, b) = (t[i].0, t[(i + 1) % 3].0);
+                edges.insert((a.min(b), a.max(b)));
+            }
+        }
+    }
+    let of = |v: u32| variants.get(&v).cloned().unwrap_or_else(|| vec![v]);
+    for ((a, b), s) in at_copied {
+        sharp.remove(&(a, b));
+        for &x in &of(a) {
+            for &y in &of(b) {
+                let k = (x.min(y), x.max(y));
+                if edges.contains(&k) {
+                    sharp.insert(k, s);
+                }
+            }
+        }
+    }
 }

@@ -116,12 +116,15 @@ use visibility::Visibility;
 /// `face_origin` maps every output face to the input face it lies in.
 ///
 /// Errors, all before anything is computed on the mesh: [`crate::Error::InvalidOption`],
-/// [`crate::Error::NonFiniteStrokePoint`], [`crate::Error::StrokeTooShort`] (fewer than two
-/// points `min_stroke_px` apart), [`crate::Error::StrokeSelfIntersects`],
-/// [`crate::Error::NonFiniteMatrixEntry`], [`crate::Error::SingularViewProjection`],
+/// [`crate::Error::NonFiniteStrokePoint`], [`crate::Error::StrokePointOutOfRange`] (beyond
+/// ±[`SCREEN_RANGE_PX`]), [`crate::Error::StrokeTooShort`] (fewer than two points
+/// `min_stroke_px` apart), [`crate::Error::StrokeSelfIntersects`],
+/// [`crate::Error::NonFiniteMatrixEntry`], [`crate::Error::ViewProjectionOutOfRange`] (entries
+/// whose determinant overflows), [`crate::Error::SingularViewProjection`],
 /// [`crate::Error::InvalidViewport`], [`crate::Error::EmptyMesh`]; then
 /// [`crate::Error::NonManifoldEdge`] or [`crate::Error::InconsistentOrientation`] for an edge
-/// near the stroke (the rest of the mesh is not inspected), and
+/// near the stroke and [`crate::Error::NonManifoldVertex`] for a bow-tie vertex within the
+/// snap distance of it (the rest of the mesh is not inspected), and
 /// [`crate::Error::InvalidFaceWithHoles`] for a face with holes that cannot be bridged;
 /// [`crate::Error::CoordinateOverflow`] when a vertex the cut places has a coordinate f64
 /// cannot hold (the input's coordinates near its limits).
@@ -131,8 +134,51 @@ pub fn cut_by_stroke(
     view: &View,
     options: &CutOptions,
 ) -> Result<CutOutput> {
-    let (edits, tris) = plan(mesh, stroke, view, options, Machinery::Fast)?;
-    edits.apply_to(mesh, &tris)
+    cut_by_stroke_with_progress(mesh, stroke, view, options, &mut |_, _| true)
+}
+
+/// How many times [`cut_by_stroke_with_progress`] reports progress: after each step of the
+/// cut (stroke checks, region, snap, first normalization, split patterns, path and opening,
+/// edits) and once the new mesh is built.
+pub const CUT_STEPS: u32 = 8;
+
+/// [`cut_by_stroke`], calling `progress(done, CUT_STEPS)` on the calling thread after each
+/// step (a progress bar; no call takes long between two of them, whatever the stroke's
+/// length). When `progress` returns `false` the cut stops there with
+/// [`crate::Error::Cancelled`] (kind [`crate::ErrorKind::Cancelled`]); `mesh` is unchanged
+/// either way. Same errors otherwise.
+pub fn cut_by_stroke_with_progress(
+    mesh: &PolyMesh,
+    stroke: &Stroke,
+    view: &View,
+    options: &CutOptions,
+    progress: &mut dyn FnMut(u32, u32) -> bool,
+) -> Result<CutOutput> {
+    let mut steps = Steps { done: 0, progress };
+    let (edits, tris) = plan(mesh, stroke, view, options, Machinery::Fast, &mut steps)?;
+    let output = edits.apply_to(mesh, &tris)?;
+    steps.next()?;
+    Ok(output)
+}
+
+/// The steps done, told to the caller's progress function, which may cancel.
+struct Steps<'p> {
+    done: u32,
+    progress: &'p mut dyn FnMut(u32, u32) -> bool,
+}
+
+impl Steps<'_> {
+    /// One more step done: `Err(Cancelled)` when the caller says stop.
+    fn next(&mut self) -> Result<()> {
+        self.done += 1;
+        if (self.progress)(self.done, CUT_STEPS) {
+            Ok(())
+        } else {
+            Err(crate::Error::Cancelled {
+                operation: "the stroke cut",
+            })
+        }
+    }
 }
 
 /// [`cut_by_stroke`] without building the new mesh: what the cut changes, as edits to the
@@ -144,7 +190,11 @@ pub fn cut_edits(
     view: &View,
     options: &CutOptions,
 ) -> Result<CutEdits> {
-    Ok(plan(mesh, stroke, view, options, Machinery::Fast)?.0)
+    let mut steps = Steps {
+        done: 0,
+        progress: &mut |_, _| true,
+    };
+    Ok(plan(mesh, stroke, view, options, Machinery::Fast, &mut steps)?.0)
 }
 
 /// [`cut_edits`] on the plain path: no candidate grid, SIMD passes, buckets, windows or radix
@@ -156,7 +206,11 @@ pub fn cut_edits_plain(
     view: &View,
     options: &CutOptions,
 ) -> Result<CutEdits> {
-    Ok(plan(mesh, stroke, view, options, Machinery::Plain)?.0)
+    let mut steps = Steps {
+        done: 0,
+        progress: &mut |_, _| true,
+    };
+    Ok(plan(mesh, stroke, view, options, Machinery::Plain, &mut steps)?.0)
 }
 
 /// The cut's steps (seed 002 §3.4's list, spec §4), up to the edits.
@@ -166,6 +220,7 @@ fn plan<'a>(
     view: &View,
     options: &CutOptions,
     machinery: Machinery,
+    steps: &mut Steps<'_>,
 ) -> Result<(CutEdits, triangulate::Triangles<'a>)> {
     let mut trace = fast::trace::Trace::start();
     options.validate()?;
@@ -175,6 +230,7 @@ fn plan<'a>(
     let tris = triangulate::triangles(mesh)?;
     let segments = prep.segments();
     trace.mark("prepare");
+    steps.next()?;
 
     // The faces near the stroke, and L.
     let region::Around {
@@ -185,6 +241,7 @@ fn plan<'a>(
         clipped,
     } = region::around_stroke(&tris.mesh, &segments, &proj, options, machinery)?;
     trace.mark("region");
+    steps.next()?;
 
     // Seed 002 §3.2: model vertices near the stroke move onto it.
     let mut visibility = (options.mode == CutMode::VisibleOnly)
@@ -201,6 +258,7 @@ fn plan<'a>(
         visibility.as_mut(),
     );
     trace.mark("snap");
+    steps.next()?;
 
     // §3.4: the stroke split at its sharp corners; §3.3: the first normalization of each
     // piece, one array per sheet.
@@ -219,6 +277,7 @@ fn plan<'a>(
         machinery,
     );
     trace.mark("first normalization");
+    steps.next()?;
 
     // §3.3: the second normalization of each array, then the split patterns along it
     // (Figs. 7, 13).
@@ -237,6 +296,7 @@ fn plan<'a>(
         }
     }
     trace.mark("split");
+    steps.next()?;
 
     // Spec §4 step 8: the cut path, made of edges, and its opening.
     let (rerouted, unjoined) = path_and_opening::join_steps(&mut sp, &mut paths);
@@ -259,6 +319,7 @@ fn plan<'a>(
         Vec::new()
     };
     trace.mark("path");
+    steps.next()?;
 
     // Output ids: the region's vertices keep their mesh ids, new vertices follow.
     let nv_in = tris.mesh.vertex_count();
@@ -300,5 +361,6 @@ fn plan<'a>(
         .collect();
     crate::mesh::validate::result_positions("the stroke cut", mesh.positions(), &placed)?;
     trace.mark("edits");
+    steps.next()?;
     Ok((edits, tris))
 }

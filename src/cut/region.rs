@@ -20,7 +20,7 @@ use super::geom::{map3, orient, segment_triangle_gap2};
 use super::ids::{Le, Lf, Lv};
 use super::options::{CutMode, CutOptions};
 use super::view::{split_seen, Projector, Seen, SeenList};
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::mesh::PolyMesh;
 
 /// The faces near the stroke with local ids ([`super::ids`]).
@@ -352,6 +352,15 @@ fn build(
         .collect();
     let (face_edges, edges, edge_faces): EdgeTable =
         machinery.edge_table(&tri, &verts, &vf_start, &vf_corner)?;
+    one_fan_each(
+        &complete,
+        &vf_start,
+        &vf_list,
+        &tri,
+        &face_edges,
+        &edge_faces,
+        &verts,
+    )?;
     let region = Region {
         faces,
         tri,
@@ -646,4 +655,68 @@ fn face_signs(
             (o.signum(), (cuttable, true))
         })
         .unzip()
+}
+
+/// Spec §1: the vertices within reach of the stroke (`complete`: all their faces are in the
+/// region) each have one fan of faces, closed or open. A bow-tie vertex, whose faces form
+/// several fans that touch only at it, is [`Error::NonManifoldVertex`] (the first in vertex
+/// order): the cut would move or open it as if its fans were one surface. Faces around a
+/// vertex are joined through the edges at it that they share.
+fn one_fan_each(
+    complete: &[bool],
+    vf_start: &[u32],
+    vf_list: &[Lf],
+    tri: &[[Lv; 3]],
+    face_edges: &[[Le; 3]],
+    edge_faces: &[[Lf; 2]],
+    verts: &[u32],
+) -> Result<()> {
+    let fans = |v: usize| -> u32 {
+        let around = &vf_list[vf_start[v] as usize..vf_start[v + 1] as usize];
+        let mut seen = vec![false; around.len()];
+        let mut stack = Vec::new();
+        let mut fans = 0;
+        for start in 0..around.len() {
+            if seen[start] {
+                continue;
+            }
+            fans += 1;
+            seen[start] = true;
+            stack.push(start);
+            while let Some(k) = stack.pop() {
+                let f = around[k];
+                let t = tri[f.idx()];
+                for c in (0..3).filter(|&c| t[c].idx() == v) {
+                    // The two sides of the face at its corner c: c → c + 1 and c − 1 → c.
+                    for e in [face_edges[f.idx()][c], face_edges[f.idx()][(c + 2) % 3]] {
+                        if !e.is_some() {
+                            continue;
+                        }
+                        for g in edge_faces[e.idx()] {
+                            if let Ok(j) = around.binary_search(&g) {
+                                if !seen[j] {
+                                    seen[j] = true;
+                                    stack.push(j);
+                                }
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        fans
+    };
+    let bad = (0..complete.len())
+        .into_par_iter()
+        .with_min_len(1024)
+        .filter(|&v| complete[v])
+        .map(|v| (v, fans(v)))
+        .find_first(|&(_, n)| n > 1);
+    match bad {
+        Some((v, fans)) => Err(Error::NonManifoldVertex {
+            vertex: verts[v],
+            fans,
+        }),
+        None => Ok(()),
+    }
 }

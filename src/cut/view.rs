@@ -212,8 +212,9 @@ impl Projector {
         // Relative to the entries' scale, so a matrix in millimetres is not "singular".
         let scale = entries.iter().fold(0.0f64, |a, v| a.max(v.abs()));
         let inv = m.inverse();
-        if !(determinant.abs() > 1e-300 && determinant.abs() > 1e-14 * scale.powi(4))
-            || !inv.is_finite()
+        if !(determinant.abs() > 1e-300
+            && determinant.abs() > 1e-14 * scale.powi(4)
+            && inv.is_finite())
         {
             return Err(Error::SingularViewProjection { determinant });
         }
@@ -261,7 +262,7 @@ impl Projector {
         }
         let inv_w = 1.0 / c.w;
         let screen = self.ndc_to_screen(c.x * inv_w, c.y * inv_w);
-        in_range(screen).then(|| Seen {
+        in_range(screen).then_some(Seen {
             screen,
             w: c.w,
             z: c.z * inv_w,

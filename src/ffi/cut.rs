@@ -3,6 +3,8 @@
 //! caller's per-corner and per-vertex data through the cut. Conversion and error mapping
 //! only; the work is [`crate::cut`]'s.
 
+use std::ffi::c_void;
+
 use glam::{DMat4, DVec2};
 
 use super::boundary::{
@@ -11,7 +13,7 @@ use super::boundary::{
 };
 use super::mesh::{mesh_ref, reset_out, KatachiMesh};
 use super::status::KatachiStatus;
-use crate::cut::{cut_by_stroke, CutMode, CutOptions, CutOutput, Stroke, View};
+use crate::cut::{cut_by_stroke_with_progress, CutMode, CutOptions, CutOutput, Stroke, View};
 use crate::error::Error;
 use crate::mesh::PolyMesh;
 
@@ -305,10 +307,13 @@ fn options_from(o: &KatachiCutOptions) -> FfiResult<CutOptions> {
 /// `viewport`, `options` or `out` NULL, or `stroke_px` NULL with `point_count` > 0);
 /// `KATACHI_STATUS_INVALID_ARGUMENT` (a bad option: `struct_size`, `mode`, `open`, a ratio,
 /// angle or distance out of its range); `KATACHI_STATUS_BAD_INPUT` (a NaN or infinite stroke
-/// point or matrix entry, fewer than two stroke points `min_stroke_px` apart, a stroke that
-/// crosses itself, a singular matrix, a viewport without area, an empty mesh, a cut that
-/// would split more than `max_faces_split` triangles); `KATACHI_STATUS_BAD_TOPOLOGY` (a
-/// non-manifold or inconsistently oriented edge near the stroke). On failure `*out` is NULL.
+/// point or matrix entry, a stroke point or viewport value beyond ±2^40 pixels, matrix
+/// entries so large that its determinant overflows, fewer than two stroke points
+/// `min_stroke_px` apart, a stroke that crosses itself, a singular matrix, a viewport without
+/// area, an empty mesh, a cut that would split more than `max_faces_split` triangles, a
+/// vertex the cut would place beyond what a double holds); `KATACHI_STATUS_BAD_TOPOLOGY` (a
+/// non-manifold or inconsistently oriented edge near the stroke, a bow-tie vertex within the
+/// snap distance of it). On failure `*out` is NULL.
 ///
 /// # Safety
 /// `mesh` NULL or a live handle; `stroke_px` NULL or readable for 2 × `point_count` doubles;
@@ -325,37 +330,115 @@ pub unsafe extern "C" fn katachi_cut_by_stroke(
     out: *mut *mut KatachiCut,
 ) -> KatachiStatus {
     guard("katachi_cut_by_stroke", || {
-        // SAFETY (all blocks): the caller's promises above.
-        let out = unsafe { deref_mut(out, "out") }?;
-        *out = std::ptr::null_mut();
-        let mesh = unsafe { mesh_ref(mesh) }?;
-        let n = point_count as usize * 2;
-        let stroke = unsafe {
-            slice(
-                stroke_px,
-                n,
-                "stroke_px",
-                &format_args!("point_count is {point_count}"),
-            )
-        }?;
-        let view_proj = unsafe { slice(view_proj, 16, "view_proj", &"16 values are needed") }?;
-        let viewport = unsafe { slice(viewport, 4, "viewport", &"4 values are needed") }?;
-        let options = options_from(unsafe { deref(options, "options") }?)?;
-        let stroke = Stroke::new(
-            stroke
-                .chunks_exact(2)
-                .map(|p| DVec2::new(p[0], p[1]))
-                .collect(),
-        );
-        let matrix = DMat4::from_cols_slice(view_proj);
-        let view = View::new(matrix, [viewport[0], viewport[1], viewport[2], viewport[3]]);
-        let output = cut_by_stroke(mesh, &stroke, &view, &options)?;
-        *out = Box::into_raw(Box::new(KatachiCut {
-            input: mesh.clone(),
-            output,
-        }));
-        Ok(())
+        let args = CutArgs {
+            mesh,
+            stroke_px,
+            point_count,
+            view_proj,
+            viewport,
+            options,
+        };
+        // SAFETY: the caller's promises, passed on unchanged.
+        unsafe { cut_body(args, &mut |_, _| true, out) }
     })
+}
+
+/// Called by `katachi_cut_by_stroke_with_progress` on the calling thread after each step of
+/// the cut: `done` steps of `total` are finished. Return 0 to go on, any other value to
+/// cancel the cut. `user` is the pointer given with the callback.
+pub type KatachiCutProgressFn =
+    Option<unsafe extern "C" fn(done: u32, total: u32, user: *mut c_void) -> u32>;
+
+/// `katachi_cut_by_stroke`, calling `progress(done, total, user)` on the calling thread after
+/// each step of the cut (`total` steps; no step takes long whatever the stroke's length: a
+/// 200,000-point stroke is checked in linear time). When `progress` returns non-zero the cut
+/// stops: `KATACHI_STATUS_CANCELLED`, `*out` NULL, the mesh unchanged. `progress` may be NULL
+/// (then this is `katachi_cut_by_stroke`). Other statuses as `katachi_cut_by_stroke`.
+///
+/// # Safety
+/// As `katachi_cut_by_stroke`; `progress` NULL or a function safe to call with `user`.
+#[no_mangle]
+#[allow(clippy::too_many_arguments)]
+pub unsafe extern "C" fn katachi_cut_by_stroke_with_progress(
+    mesh: *const KatachiMesh,
+    stroke_px: *const f64,
+    point_count: u32,
+    view_proj: *const f64,
+    viewport: *const f64,
+    options: *const KatachiCutOptions,
+    progress: KatachiCutProgressFn,
+    user: *mut c_void,
+    out: *mut *mut KatachiCut,
+) -> KatachiStatus {
+    guard("katachi_cut_by_stroke_with_progress", || {
+        let args = CutArgs {
+            mesh,
+            stroke_px,
+            point_count,
+            view_proj,
+            viewport,
+            options,
+        };
+        let mut go_on = |done: u32, total: u32| match progress {
+            // SAFETY: the caller's promise about `progress` and `user`.
+            Some(f) => (unsafe { f(done, total, user) }) == 0,
+            None => true,
+        };
+        // SAFETY: the caller's promises, passed on unchanged.
+        unsafe { cut_body(args, &mut go_on, out) }
+    })
+}
+
+/// The caller's arguments of both cut calls but the result.
+struct CutArgs {
+    mesh: *const KatachiMesh,
+    stroke_px: *const f64,
+    point_count: u32,
+    view_proj: *const f64,
+    viewport: *const f64,
+    options: *const KatachiCutOptions,
+}
+
+/// The body of both cut calls.
+///
+/// # Safety
+/// As `katachi_cut_by_stroke`.
+unsafe fn cut_body(
+    a: CutArgs,
+    progress: &mut dyn FnMut(u32, u32) -> bool,
+    out: *mut *mut KatachiCut,
+) -> FfiResult {
+    // SAFETY (all blocks): the caller's promises above.
+    let out = unsafe { deref_mut(out, "out") }?;
+    *out = std::ptr::null_mut();
+    let mesh = unsafe { mesh_ref(a.mesh) }?;
+    let point_count = a.point_count;
+    let n = point_count as usize * 2;
+    let stroke = unsafe {
+        slice(
+            a.stroke_px,
+            n,
+            "stroke_px",
+            &format_args!("point_count is {point_count}"),
+        )
+    }?;
+    let view_proj = unsafe { slice(a.view_proj, 16, "view_proj", &"16 values are needed") }?;
+    let viewport = unsafe { slice(a.viewport, 4, "viewport", &"4 values are needed") }?;
+    let options = options_from(unsafe { deref(a.options, "options") }?)?;
+    let stroke = Stroke::new(
+        stroke
+            .chunks_exact(2)
+            .map(|p| DVec2::new(p[0], p[1]))
+            .collect(),
+    );
+    let matrix = DMat4::from_cols_slice(view_proj);
+    let view = View::new(matrix, [viewport[0], viewport[1], viewport[2], viewport[3]]);
+    let output = cut_by_stroke_with_progress(mesh, &stroke, &view, &options, progress)?;
+    *out = Box::into_raw(Box::new(KatachiCut {
+        input: mesh.clone(),
+        output,
+    }));
+    Ok(())
 }
 
 /// Frees a result of `katachi_cut_by_stroke`. NULL is allowed and does nothing.

@@ -1119,6 +1119,74 @@ static void test_extreme_numbers(void)
     make_grid_positions();
 }
 
+/* What the progress callback of test_progress_and_cancel saw and when it says stop. */
+struct Progress {
+    uint32_t calls, last_done, total, stop_at, in_order;
+};
+
+static uint32_t on_step(uint32_t done, uint32_t total, void *user)
+{
+    struct Progress *p = (struct Progress *)user;
+    p->in_order = p->in_order && done == p->last_done + 1 && done <= total;
+    p->calls++;
+    p->last_done = done;
+    p->total = total;
+    return p->stop_at != 0 && done >= p->stop_at;
+}
+
+/* katachi_cut_by_stroke_with_progress: every step reported in order on a long spiral stroke
+ * (5,000 points; the Rust tests run 200,000); a callback that returns non-zero at step k
+ * cancels there with KATACHI_STATUS_CANCELLED, no result and no further call; NULL progress
+ * is katachi_cut_by_stroke. */
+static void test_progress_and_cancel(void)
+{
+    KatachiMesh *grid = make_grid();
+    KatachiCutOptions o = katachi_cut_options_default();
+    KatachiCut *cut = NULL;
+    KatachiCutInfo info = katachi_cut_info_default();
+    struct Progress p = {0, 0, 0, 0, 1};
+    double s[STROKE_POINTS * 2];
+    enum { LONG = 5000 };
+    double *spiral = malloc(sizeof(double) * 2 * LONG);
+    double t = 6.283185307179586, k = 4.0 / 6.283185307179586;
+    uint32_t i, stop, total;
+    for (i = 0; i < LONG; i++) {
+        double r = k * t;
+        spiral[2 * i] = 250.0 + r * cos(t);
+        spiral[2 * i + 1] = 250.0 + r * sin(t);
+        t += 2.5 / sqrt(r * r + k * k);
+    }
+    o.mode = KATACHI_CUT_MODE_THROUGH_ALL;
+    CHECK_OK("a long spiral with progress",
+             katachi_cut_by_stroke_with_progress(grid, spiral, LONG, VIEW_PROJ, VIEWPORT, &o,
+                                                 on_step, &p, &cut));
+    CHECK("every step reported, in order", p.in_order && p.calls == p.total && p.total >= 5);
+    CHECK_OK("info", katachi_cut_info(cut, &info));
+    CHECK("the spiral splits faces", info.split_face_count > 0);
+    katachi_cut_free(cut);
+    cut = NULL;
+    total = p.total;
+    make_stroke(s);
+    o.open = 1;
+    for (stop = 1; stop <= total; stop++) {
+        struct Progress q = {0, 0, 0, 0, 1};
+        q.stop_at = stop;
+        cut = (KatachiCut *)(void *)&q; /* must be reset */
+        CHECK_ERR("cancelled by the callback",
+                  katachi_cut_by_stroke_with_progress(grid, s, STROKE_POINTS, VIEW_PROJ, VIEWPORT,
+                                                      &o, on_step, &q, &cut),
+                  KATACHI_STATUS_CANCELLED, "cancelled");
+        CHECK("no result after cancelling", cut == NULL);
+        CHECK("no call after the one that cancelled", q.calls == stop);
+    }
+    CHECK_OK("NULL progress",
+             katachi_cut_by_stroke_with_progress(grid, s, STROKE_POINTS, VIEW_PROJ, VIEWPORT, &o,
+                                                 NULL, NULL, &cut));
+    katachi_cut_free(cut);
+    free(spiral);
+    katachi_mesh_free(grid);
+}
+
 int main(void)
 {
     printf("katachi %s, stroke cut from C99\n", katachi_version_string());
@@ -1128,5 +1196,6 @@ int main(void)
     test_polygons_layout();
     test_bad_input();
     test_extreme_numbers();
+    test_progress_and_cancel();
     return check_finish();
 }

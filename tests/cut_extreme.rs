@@ -3,7 +3,8 @@
 //! typed error naming what is wrong, or a cut whose every position is finite — never a panic,
 //! a huge allocation or a read out of bounds (the C tests run the same through the C ABI
 //! under valgrind, `tests/c/cut_api.c`, `tests/c/cut_fuzz.c`). Then a property test over
-//! extreme numbers: `KATACHI_CUT_EXTREME_CASES` cases (default 256).
+//! extreme numbers: `KATACHI_CUT_EXTREME_CASES` cases (default 256). All of them run again
+//! in a child process under a 1 GiB address-space limit.
 
 use glam::{DMat4, DVec2, DVec3};
 use katachi::cut::{cut_by_stroke, CutMode, CutOptions, CutOutput, Stroke, View, SCREEN_RANGE_PX};
@@ -60,6 +61,7 @@ fn all_errors(rs: &[Result<CutOutput, Error>], what: impl Fn(&Error) -> bool) ->
 
 #[test]
 fn stroke_points_of_huge_magnitude_are_out_of_range() {
+    limit_memory_in_a_child();
     let g = tri_grid(8, 8);
     for h in [1e300, f64::MAX, -f64::MAX, 1e13, 2.0 * SCREEN_RANGE_PX] {
         // Two points (no pair of segments to test), three in a line, and a point far off.
@@ -90,6 +92,7 @@ fn stroke_points_of_huge_magnitude_are_out_of_range() {
 
 #[test]
 fn view_matrices_and_viewports_of_huge_magnitude_are_errors() {
+    limit_memory_in_a_child();
     let g = tri_grid(8, 8);
     let s = stroke(&ACROSS);
     for h in [1e300, f64::MAX, 1e154, 1e100] {
@@ -122,6 +125,7 @@ fn view_matrices_and_viewports_of_huge_magnitude_are_errors() {
 
 #[test]
 fn mesh_coordinates_of_huge_magnitude_cut_or_overflow_typed() {
+    limit_memory_in_a_child();
     let s = stroke(&ACROSS);
     for h in [1e300, f64::MAX, -f64::MAX, 1e154, 1e20] {
         // A grid vertex under the stroke moved far along the view (orthographic: it stays
@@ -199,6 +203,7 @@ counted_proptest! {
         near in prop::collection::vec((0.0f64..600.0, 0.0f64..450.0), 2..6),
         use_near in 0usize..3,
     ) {
+        limit_memory_in_a_child();
         let base = if sphere { icosphere(1) } else { tri_grid(4, 4) };
         let mut p = base.positions().to_vec();
         let (vi, value, axis) = vertex;
@@ -225,4 +230,46 @@ counted_proptest! {
         };
         outcome(&mesh, &stroke(&pts), &view);
     }
+}
+
+/// The environment variable that makes this binary a child run under an address-space limit.
+const UNDER_LIMIT: &str = "KATACHI_CUT_EXTREME_UNDER_LIMIT";
+
+/// In a child run ([`every_case_runs_under_a_1_gib_address_space_limit`]), caps this
+/// process's address space at 1 GiB before a test cuts anything (every test calls it; the
+/// limit is per process, so setting it again is harmless).
+fn limit_memory_in_a_child() {
+    if std::env::var_os(UNDER_LIMIT).is_none() {
+        return;
+    }
+    let limit = libc::rlimit {
+        rlim_cur: 1 << 30,
+        rlim_max: 1 << 30,
+    };
+    // SAFETY: a plain system call on this process's own limit.
+    assert_eq!(unsafe { libc::setrlimit(libc::RLIMIT_AS, &limit) }, 0);
+}
+
+/// Issue 34: an extreme number once made the cut allocate 2 GiB for a 26-face mesh (an abort
+/// under a 4 GB limit). Every other test of this file runs again in a child process whose
+/// address space is capped at 1 GiB (RLIMIT_AS): an allocation beyond it aborts the child and
+/// fails this test.
+#[test]
+fn every_case_runs_under_a_1_gib_address_space_limit() {
+    if std::env::var_os(UNDER_LIMIT).is_some() {
+        return;
+    }
+    let out = std::process::Command::new(std::env::current_exe().unwrap())
+        .args([
+            "--skip",
+            "every_case_runs_under_a_1_gib_address_space_limit",
+            "--test-threads=1",
+        ])
+        .env(UNDER_LIMIT, "1")
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&out.stdout);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{:?}\n{text}\n{err}", out.status);
+    assert!(text.contains("test result: ok. 4 passed"), "{text}");
 }

@@ -132,7 +132,8 @@ mod tests {
         };
         assert_eq!(name(0), "KATACHI_STATUS_OK");
         assert_eq!(name(7), "KATACHI_STATUS_INTERNAL_ERROR");
-        assert_eq!(name(8), "KATACHI_STATUS_UNKNOWN");
+        assert_eq!(name(8), "KATACHI_STATUS_CANCELLED");
+        assert_eq!(name(9), "KATACHI_STATUS_UNKNOWN");
         assert_eq!(name(u32::MAX), "KATACHI_STATUS_UNKNOWN");
         assert_eq!(
             KatachiStatus::BadTopology.name(),

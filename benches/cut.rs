@@ -10,13 +10,14 @@
 //! after the same call) and cold (right after the caches were evicted). `cut_edits` over the
 //! floor is given twice: as the ratio of the medians, and as the median of each round's ratio
 //! (floor and cut measured moments apart, so a drift of the machine's speed between rounds,
-//! ±25% here, cancels).
+//! ±25% here, cancels). Then `cut long stroke`: spirals of 25k to 200k points over the
+//! chamfer cube, to show the cut grows linearly with the stroke's length (issue 34).
 
 use std::time::{Duration, Instant};
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
 use glam::DVec2;
-use katachi::cut::{cut_by_stroke, cut_edits, CutMode, CutOptions, View};
+use katachi::cut::{cut_by_stroke, cut_edits, CutMode, CutOptions, Stroke, View};
 use katachi::mesh::shapes;
 use katachi::PolyMesh;
 use rayon::prelude::*;
@@ -461,5 +462,105 @@ impl Evictor {
     }
 }
 
-criterion_group!(benches, cut);
+/// An Archimedean spiral of `n` points about `c`, `step` pixels apart along it and `gap`
+/// pixels between turns: a stroke that never crosses itself, as long as one likes.
+fn spiral(n: usize, c: DVec2, step: f64, gap: f64) -> Stroke {
+    let k = gap / std::f64::consts::TAU;
+    let mut t: f64 = std::f64::consts::TAU;
+    Stroke::new(
+        (0..n)
+            .map(|_| {
+                let r = k * t;
+                let p = c + DVec2::new(t.cos(), t.sin()) * r;
+                t += step / (r * r + k * k).sqrt();
+                p
+            })
+            .collect(),
+    )
+}
+
+/// Issue 34: a 200,000-point stroke over the 26-face chamfer cube took 27 s (every pair of
+/// segments was tested for crossing). The cut of spirals of 25k to 200k points (2.5 px
+/// apart, turns 4 px apart, centred on the cube in a 400 × 400 view), through all sheets:
+/// linear means each size's time over the 25k one's is about the ratio of their lengths.
+fn long_strokes(c: &mut Criterion) {
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/examples/models/chamfer-cube.off"
+    );
+    let cube = katachi::io::read(std::path::Path::new(path)).unwrap();
+    let cube = triangulate_any(&cube);
+    let vp = glam::DMat4::orthographic_rh_gl(-1.6, 1.6, -1.6, 1.6, 0.1, 20.0)
+        * glam::DMat4::look_at_rh(
+            glam::DVec3::splat(5.0 / 3f64.sqrt()),
+            glam::DVec3::ZERO,
+            glam::DVec3::Y,
+        );
+    let view = View::new(vp, [0.0, 0.0, 400.0, 400.0]);
+    let o = CutOptions::with_mode(CutMode::ThroughAll);
+    let sizes = [25_000usize, 50_000, 100_000, 200_000];
+    let strokes: Vec<Stroke> = sizes
+        .iter()
+        .map(|&n| spiral(n, DVec2::new(200.0, 200.0), 2.5, 4.0))
+        .collect();
+    let mut g = c.benchmark_group("cut long stroke");
+    g.sample_size(10);
+    g.warm_up_time(Duration::from_millis(300));
+    g.measurement_time(Duration::from_secs(2));
+    for (n, s) in sizes.iter().zip(&strokes) {
+        g.bench_with_input(BenchmarkId::new("cut_edits", n), s, |b, s| {
+            b.iter_with_large_drop(|| cut_edits(&cube, s, &view, &o).unwrap())
+        });
+    }
+    g.finish();
+    // Side by side: every size once per round, medians over the rounds.
+    let mut t: Vec<Vec<Duration>> = vec![Vec::new(); sizes.len()];
+    for _ in 0..LONG_ROUNDS {
+        for (k, s) in strokes.iter().enumerate() {
+            t[k].push(time(|| {
+                drop(std::hint::black_box(
+                    cut_edits(&cube, s, &view, &o).unwrap(),
+                ))
+            }));
+        }
+    }
+    let m: Vec<Duration> = t.into_iter().map(median).collect();
+    eprintln!(
+        "\nstroke cut of the chamfer cube ({} triangles) along spirals, through all, medians of {LONG_ROUNDS} interleaved rounds:",
+        cube.face_count()
+    );
+    eprintln!(
+        "{:>9} {:>10} {:>12} {:>16}",
+        "points", "cut_edits", "per point", "over 25k (len ×)"
+    );
+    for (k, n) in sizes.iter().enumerate() {
+        eprintln!(
+            "{:>9} {:>8.2}ms {:>10.1}ns {:>9.2}x ({}x)",
+            n,
+            m[k].as_secs_f64() * 1e3,
+            m[k].as_secs_f64() * 1e9 / *n as f64,
+            m[k].as_secs_f64() / m[0].as_secs_f64(),
+            n / sizes[0]
+        );
+    }
+}
+
+const LONG_ROUNDS: usize = 9;
+
+/// Triangles of any mesh: each polygon fanned from its first corner (the chamfer cube's
+/// faces are convex).
+fn triangulate_any(m: &PolyMesh) -> PolyMesh {
+    let faces: Vec<Vec<u32>> = m
+        .faces()
+        .flat_map(|f| {
+            let l: Vec<u32> = m.face_outer(f).iter().map(|v| v.0).collect();
+            (1..l.len() - 1)
+                .map(move |i| vec![l[0], l[i], l[i + 1]])
+                .collect::<Vec<_>>()
+        })
+        .collect();
+    PolyMesh::from_polygons(m.positions().to_vec(), faces).unwrap()
+}
+
+criterion_group!(benches, cut, long_strokes);
 criterion_main!(benches);

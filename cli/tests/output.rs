@@ -213,3 +213,129 @@ fn subdividing_coordinates_near_the_f64_limit_is_an_error_naming_the_vertex() {
     );
     assert!(!out.exists(), "a result was written");
 }
+
+/// The subcommands `katachi --help` lists.
+fn subcommands() -> Vec<String> {
+    let o = katachi(&["--help"]);
+    let help = String::from_utf8_lossy(&o.stdout).into_owned();
+    help.lines()
+        .skip_while(|l| !l.starts_with("Commands:"))
+        .skip(1)
+        .take_while(|l| l.starts_with("  "))
+        .filter_map(|l| l.split_whitespace().next().map(str::to_string))
+        .collect()
+}
+
+#[test]
+fn every_subcommand_reports_a_full_or_closed_stdout_with_status_2() {
+    let dir = folder("stdout-everywhere");
+    let cube = dir.join("cube.off");
+    katachi::io::write(&cube, &shapes::cube(1.0).unwrap()).unwrap();
+    // A stroke across the middle of the cube seen straight on (identity view-projection).
+    let stroke = dir.join("stroke.json");
+    std::fs::write(
+        &stroke,
+        r#"{"stroke": [[10, 47], [90, 53]],
+            "view_proj": [1,0,0,0, 0,1,0,0, 0,0,1,0, 0,0,0,1],
+            "viewport": [0, 0, 100, 100]}"#,
+    )
+    .unwrap();
+    let (cube, stroke) = (cube.to_str().unwrap(), stroke.to_str().unwrap());
+    let out = |name: &str| dir.join(name).to_str().unwrap().to_string();
+    // One run of each subcommand that prints results; `demo` is checked whole in cli.rs.
+    let runs: Vec<(&str, Vec<String>)> = vec![
+        ("info", vec![cube.into()]),
+        ("convert", vec![cube.into(), out("c.ply")]),
+        ("subdivide", vec![cube.into(), out("s.obj")]),
+        (
+            "cut",
+            vec![cube.into(), out("k.obj"), "--stroke".into(), stroke.into()],
+        ),
+        ("demo", vec!["--out".into(), out("demo")]),
+        ("help", vec!["info".into()]),
+    ];
+    let listed = subcommands();
+    let missing: Vec<&String> = listed
+        .iter()
+        .filter(|s| !runs.iter().any(|(n, _)| n == s))
+        .collect();
+    assert!(
+        missing.is_empty(),
+        "subcommands with no run in this test (add one): {missing:?}"
+    );
+    for (name, rest) in &runs {
+        let mut args = vec![name.to_string()];
+        args.extend(rest.iter().cloned());
+        if *name != "demo" {
+            // It succeeds with a stdout that works, and prints something there.
+            let o = Command::new(exe()).args(&args).output().unwrap();
+            assert_eq!(o.status.code(), Some(0), "{args:?}: {}", stderr(&o));
+            assert!(!o.stdout.is_empty(), "{args:?} printed nothing");
+            let full = std::fs::OpenOptions::new()
+                .write(true)
+                .open("/dev/full")
+                .unwrap();
+            let o = Command::new(exe())
+                .args(&args)
+                .stdout(Stdio::from(full))
+                .output()
+                .unwrap();
+            let line = assert_one_error_line(&o, &format!("{args:?} > /dev/full"));
+            assert!(line.contains("<stdout>"), "{line}");
+        }
+        let (reader, writer) = std::io::pipe().unwrap();
+        drop(reader);
+        let o = Command::new(exe())
+            .args(&args)
+            .stdout(Stdio::from(writer))
+            .output()
+            .unwrap();
+        let line = assert_one_error_line(&o, &format!("{args:?} into a closed pipe"));
+        assert!(line.contains("Broken pipe"), "{line}");
+    }
+}
+
+/// Rust files under `dir`, recursively.
+fn rust_files(dir: &Path, found: &mut Vec<PathBuf>) {
+    for entry in std::fs::read_dir(dir).unwrap() {
+        let path = entry.unwrap().path();
+        if path.is_dir() {
+            rust_files(&path, found);
+        } else if path.extension().is_some_and(|e| e == "rs") {
+            found.push(path);
+        }
+    }
+}
+
+#[test]
+fn the_tool_prints_only_through_out() {
+    // `println!` panics on a closed stdout ("failed printing to stdout"), which would be an
+    // internal error; `out::line` makes it an I/O error with status 2, and escapes the text.
+    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+    let mut files = Vec::new();
+    rust_files(&src, &mut files);
+    files.sort();
+    let mut found = Vec::new();
+    for file in &files {
+        if file.ends_with("out.rs") {
+            continue;
+        }
+        let text = std::fs::read_to_string(file).unwrap();
+        for (n, line) in text.lines().enumerate() {
+            let code = line.split("//").next().unwrap_or("");
+            for macro_name in ["print!", "println!", "eprint!", "eprintln!", "dbg!"] {
+                let hit = code
+                    .match_indices(macro_name)
+                    .any(|(i, _)| !code[..i].ends_with(|c: char| c.is_alphanumeric() || c == '_'));
+                if hit {
+                    found.push(format!("{}:{}: {}", file.display(), n + 1, line.trim()));
+                }
+            }
+        }
+    }
+    assert!(
+        found.is_empty(),
+        "print through crate::out::line / out::note instead:\n{}",
+        found.join("\n")
+    );
+}

@@ -462,6 +462,21 @@ fn read_and_write_map_errors() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
+#[test]
+fn messages_escape_control_characters_from_the_input() {
+    // A file name carrying a terminal escape code and a line break, as a host may pass on
+    // (Blender and MeshLab show these messages; `blender -b` prints them to a terminal).
+    let mut out = null_mut();
+    let path = CString::new("/nonexistent/no\x1b[31msuch\n.off").unwrap();
+    assert_eq!(
+        unsafe { katachi_mesh_read(path.as_ptr(), &mut out) },
+        KatachiStatus::IoError
+    );
+    let m = message();
+    assert!(m.contains(r"no\u{1b}[31msuch\n.off"), "{m}");
+    assert!(!m.chars().any(char::is_control), "{m:?}");
+}
+
 /// The exported functions' names, from the committed header.
 fn header_functions() -> Vec<String> {
     let header =

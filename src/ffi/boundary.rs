@@ -74,10 +74,20 @@ impl From<Error> for FfiError {
     }
 }
 
-/// Leaves `message` for `katachi_last_error_message` on this thread. Interior NUL bytes
-/// (which a C string cannot hold) are shown as `\0`.
+/// Leaves `message` for `katachi_last_error_message` on this thread, as one line of plain
+/// text: interior NUL bytes (which a C string cannot hold) are shown as `\0`, and other
+/// control characters from the input (a file name's escape codes or line breaks) as Rust
+/// escapes (`\u{1b}`, `\n`), so a host that prints the message prints no terminal codes.
 pub(crate) fn set_last_error(message: &str) {
-    let c = CString::new(message.replace('\0', "\\0")).unwrap_or_default();
+    let mut text = String::with_capacity(message.len());
+    for ch in message.chars() {
+        match ch {
+            '\0' => text.push_str("\\0"),
+            c if c.is_control() => text.extend(c.escape_default()),
+            c => text.push(c),
+        }
+    }
+    let c = CString::new(text).unwrap_or_default();
     // `try_with`: during thread teardown the slot may be gone; then there is no one to tell.
     let _ = LAST_ERROR.try_with(|slot| *slot.borrow_mut() = Some(c));
 }
@@ -422,9 +432,11 @@ mod tests {
     }
 
     #[test]
-    fn interior_nul_is_escaped() {
+    fn interior_nul_and_control_characters_are_escaped() {
         set_last_error("a\0b");
         assert_eq!(last_error(), "a\\0b");
+        set_last_error("x.off\x1b[2J\ny é");
+        assert_eq!(last_error(), "x.off\\u{1b}[2J\\ny é");
     }
 
     #[test]

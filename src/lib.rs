@@ -3,7 +3,8 @@
 //! A mesh-modelling kernel: solid-aware Catmull-Clark subdivision ([`subdivide`], seed 001)
 //! and the stroke cut ([`cut`], seed 002) over polygon meshes whose faces may have holes
 //! ([`mesh`]), with OBJ, PLY and OFF files ([`io`]), shipped as a Rust library, a C library
-//! ([`ffi`], `include/katachi.h`), a command-line tool, a Blender add-on and a MeshLab plugin.
+//! ([`ffi`], `include/katachi.h`), a command-line tool, a Blender add-on and a MeshLab plugin;
+//! and curved anisotropic meshing of trimmed Bézier patches ([`curved`], seed 000; Rust API).
 //!
 //! Every operation is a pure function `op(&PolyMesh, &Options) -> Result<Output, Error>`:
 //! it never changes its input, and bad input gets an [`Error`] naming the element at fault.

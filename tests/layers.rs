@@ -143,3 +143,36 @@ fn the_library_depends_on_no_front_end_crate() {
         found.join("\n")
     );
 }
+
+#[test]
+fn files_are_written_only_through_io_write() {
+    // `io::write` and `io::write_bytes` write a temporary file beside the target and rename
+    // it into place, so a failed write (a full disk, a file-size limit) leaves the old file.
+    // A plain `fs::write` or `File::create` in the library or the tool would truncate it.
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut files = Vec::new();
+    rust_files(&root.join("src"), &mut files);
+    rust_files(&root.join("cli/src"), &mut files);
+    files.sort();
+    let atomic = root.join("src/io/atomic.rs");
+    let mut found = Vec::new();
+    for file in files.iter().filter(|f| **f != atomic) {
+        let text = std::fs::read_to_string(file).unwrap();
+        // Unit tests inside a file may make scratch files.
+        let code = text.split("#[cfg(test)]").next().unwrap_or("");
+        for (n, line) in code.lines().enumerate() {
+            let code = line.split("//").next().unwrap_or("");
+            for call in ["fs::write(", "File::create(", "OpenOptions::new("] {
+                if code.contains(call) {
+                    let rel = file.strip_prefix(root).unwrap();
+                    found.push(format!("{}:{}: {}", rel.display(), n + 1, line.trim()));
+                }
+            }
+        }
+    }
+    assert!(
+        found.is_empty(),
+        "write files through katachi::io::write / io::write_bytes:\n{}",
+        found.join("\n")
+    );
+}

@@ -203,6 +203,11 @@ fn shapes_refuse_bad_parameters_naming_them() {
             shapes::torus(8, 8, 2.0, f64::NAN),
             "minor is NaN",
         ),
+        (
+            "torus past the largest f64",
+            shapes::torus(8, 8, 1.7e308, 1.6e308),
+            "past the largest f64",
+        ),
         ("grid 0 × 3", shapes::grid(0, 3), "m is 0"),
         ("grid overflow", shapes::grid(u32::MAX, 1), "32-bit"),
         (

@@ -117,7 +117,8 @@ pub fn ngon_prism(n: u32, radius: f64, height: f64) -> Result<PolyMesh> {
 /// m·n vertices, m·n faces, 2·m·n edges.
 ///
 /// Errors: `m` or `n` < 3, or m·n past the index range; `minor` not finite and positive, or
-/// `major` not finite and greater than `minor` (the tube would pass through the axis).
+/// `major` not finite and greater than `minor` (the tube would pass through the axis), or
+/// `major + minor` past the largest `f64`.
 pub fn torus(m: u32, n: u32, major: f64, minor: f64) -> Result<PolyMesh> {
     const SHAPE: &str = "torus";
     at_least(SHAPE, "m", m, 3)?;
@@ -128,6 +129,12 @@ pub fn torus(m: u32, n: u32, major: f64, minor: f64) -> Result<PolyMesh> {
         return Err(invalid(
             SHAPE,
             format!("major is {major}; it must be finite and greater than minor ({minor})"),
+        ));
+    }
+    if !(major + minor).is_finite() {
+        return Err(invalid(
+            SHAPE,
+            format!("major + minor ({major} + {minor}) is past the largest f64"),
         ));
     }
     let mut p = Vec::with_capacity(quads as usize);

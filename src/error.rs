@@ -5,7 +5,34 @@
 //! [`Error::kind`] sorts the variants into the families a caller acts on differently:
 //! bad input, bad topology, I/O, and internal bugs.
 
+use std::borrow::Cow;
 use std::path::PathBuf;
+
+/// `text` as one line of plain text: each control character (a line break, a terminal escape
+/// code, NUL) written as its Rust escape (`\n`, `\u{1b}`, `\0`), everything else unchanged.
+/// Whatever echoes input goes through it (names from a file in the readers' messages, the C
+/// ABI's messages, the command-line tool's lines), so an input cannot carry escape codes to a
+/// terminal or break a message's line.
+///
+/// ```
+/// use katachi::error::escape_control_characters;
+/// assert_eq!(escape_control_characters("red\x1b[31m\nname\0"), r"red\u{1b}[31m\nname\0");
+/// assert_eq!(escape_control_characters("plain é"), "plain é");
+/// ```
+pub fn escape_control_characters(text: &str) -> Cow<'_, str> {
+    if !text.chars().any(char::is_control) {
+        return Cow::Borrowed(text);
+    }
+    let mut out = String::with_capacity(text.len() + 8);
+    for c in text.chars() {
+        if c.is_control() {
+            out.extend(c.escape_debug());
+        } else {
+            out.push(c);
+        }
+    }
+    Cow::Owned(out)
+}
 
 /// The family an [`Error`] belongs to; the C ABI maps each family to a status code.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]

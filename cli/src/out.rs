@@ -8,6 +8,7 @@ use std::fmt::Display;
 use std::io::Write;
 use std::path::PathBuf;
 
+use katachi::error::escape_control_characters;
 use katachi::Error;
 
 fn stdout_error(source: std::io::Error) -> Error {
@@ -19,7 +20,8 @@ fn stdout_error(source: std::io::Error) -> Error {
 
 /// Prints one line of results on stdout.
 pub fn line(text: impl Display) -> Result<(), Error> {
-    let text = escaped(&text.to_string());
+    let text = text.to_string();
+    let text = escape_control_characters(&text);
     writeln!(std::io::stdout().lock(), "{text}").map_err(stdout_error)
 }
 
@@ -30,23 +32,7 @@ pub fn flush() -> Result<(), Error> {
 
 /// Prints one line on stderr; a failure to print it is ignored.
 pub fn note(text: impl Display) {
-    let text = escaped(&text.to_string());
+    let text = text.to_string();
+    let text = escape_control_characters(&text);
     let _ = writeln!(std::io::stderr().lock(), "{text}");
-}
-
-/// `text` with every control character (newlines and escape codes included) written as a
-/// Rust escape (`\n`, `\u{1b}`), so it is one line of plain text.
-pub fn escaped(text: &str) -> String {
-    if !text.chars().any(char::is_control) {
-        return text.to_string();
-    }
-    text.chars()
-        .map(|c| {
-            if c.is_control() {
-                c.escape_default().to_string()
-            } else {
-                c.to_string()
-            }
-        })
-        .collect()
 }

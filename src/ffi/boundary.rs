@@ -75,19 +75,12 @@ impl From<Error> for FfiError {
 }
 
 /// Leaves `message` for `katachi_last_error_message` on this thread, as one line of plain
-/// text: interior NUL bytes (which a C string cannot hold) are shown as `\0`, and other
-/// control characters from the input (a file name's escape codes or line breaks) as Rust
-/// escapes (`\u{1b}`, `\n`), so a host that prints the message prints no terminal codes.
+/// text: control characters from the input (a file name's escape codes or line breaks, and
+/// NUL bytes, which a C string cannot hold) as Rust escapes (`\u{1b}`, `\n`, `\0`), so a
+/// host that prints the message prints no terminal codes.
 pub(crate) fn set_last_error(message: &str) {
-    let mut text = String::with_capacity(message.len());
-    for ch in message.chars() {
-        match ch {
-            '\0' => text.push_str("\\0"),
-            c if c.is_control() => text.extend(c.escape_default()),
-            c => text.push(c),
-        }
-    }
-    let c = CString::new(text).unwrap_or_default();
+    let text = crate::error::escape_control_characters(message);
+    let c = CString::new(text.into_owned()).unwrap_or_default();
     // `try_with`: during thread teardown the slot may be gone; then there is no one to tell.
     let _ = LAST_ERROR.try_with(|slot| *slot.borrow_mut() = Some(c));
 }

@@ -118,19 +118,7 @@ pub(crate) fn parse_u64(tok: &[u8]) -> Option<u64> {
 /// UTF-8 with control characters escaped (`\u{1b}`), so that a message echoing it cannot
 /// carry terminal escape codes or break its line. Printable names are unchanged.
 pub(crate) fn name(tok: &[u8]) -> String {
-    let s = String::from_utf8_lossy(tok);
-    if !s.chars().any(char::is_control) {
-        return s.into_owned();
-    }
-    s.chars()
-        .map(|c| {
-            if c.is_control() {
-                c.escape_default().to_string()
-            } else {
-                c.to_string()
-            }
-        })
-        .collect()
+    crate::error::escape_control_characters(&String::from_utf8_lossy(tok)).into_owned()
 }
 
 /// A token quoted for a message: lossy UTF-8, at most 40 characters.

@@ -10,6 +10,7 @@ use clap::{Parser, Subcommand};
 use katachi::mesh::{inspect, MeshReport};
 use katachi::{io, Error};
 
+mod curved;
 mod cut;
 mod demo;
 mod out;
@@ -41,6 +42,9 @@ enum Command {
     /// Cut a mesh along a stroke drawn over a view of it (seed 002); the stroke and camera
     /// come from a JSON file.
     Cut(cut::Args),
+    /// Mesh trimmed Bézier patches with curved anisotropic triangles (seed 000); the
+    /// patches, curves, regions and metric come from a JSON file.
+    CurvedMesh(curved::Args),
     /// Run every operation on the bundled example models and write the results.
     Demo {
         /// Directory for the results (created if missing).
@@ -128,6 +132,7 @@ fn run(command: Command) -> Result<(), Error> {
         }
         Command::Subdivide(args) => subdivide::run(&args),
         Command::Cut(args) => cut::run(&args),
+        Command::CurvedMesh(args) => curved::run(&args),
         Command::Demo { out } => demo::run(&out),
     }
 }

@@ -66,6 +66,7 @@ mod tensor;
 mod triangulation;
 mod validate;
 mod voronoi;
+mod write;
 
 pub use bezier::BezierCurve;
 pub use error::CurvedError;
@@ -79,6 +80,7 @@ pub use patch::{BezierPatch, SurfacePoint};
 pub use quality::{AngleStats, QualityReport};
 pub use refine::RefineStats;
 pub use tensor::{Frame2, Metric2, Metric3};
+pub use write::{gmsh_triangle_type, Space};
 
 /// Checks `input` as [`mesh`] would before meshing (spec §1): curves, loops, regions,
 /// patches and metric, each failure naming the element at fault.
@@ -120,6 +122,16 @@ pub fn validate(input: &TrimmedPatches) -> crate::Result<()> {
 /// assert!(out.quality.straight_min_vertex.min >= out.quality.guaranteed_angle_deg);
 /// ```
 pub fn mesh(input: &TrimmedPatches, options: &CurvedOptions) -> crate::Result<CurvedMesh> {
+    mesh_with_progress(input, options, &mut |_, _| {})
+}
+
+/// [`mesh`], calling `progress(sites, estimate)` now and then during refinement (sites made
+/// so far and a rough estimate of the total), for front ends that show progress.
+pub fn mesh_with_progress(
+    input: &TrimmedPatches,
+    options: &CurvedOptions,
+    progress: &mut dyn FnMut(u64, u64),
+) -> crate::Result<CurvedMesh> {
     use std::time::Instant;
     options.validate()?;
     let t0 = Instant::now();
@@ -135,6 +147,7 @@ pub fn mesh(input: &TrimmedPatches, options: &CurvedOptions) -> crate::Result<Cu
         max_pieces: options.max_curve_pieces,
     };
     let mut assembly = assemble::Assembly::new(options.order);
+    let (mut done_sites, mut done_estimate) = (0u64, 0u64);
     for patch in 0..input.patches.len() as u32 {
         let regions: Vec<u32> = (0..input.regions.len() as u32)
             .filter(|&r| input.regions[r as usize].patch.0 == patch)
@@ -163,8 +176,13 @@ pub fn mesh(input: &TrimmedPatches, options: &CurvedOptions) -> crate::Result<Cu
         let mut d = domain::build(input, &regions, metric, guarded)?;
         let corners = corners::Corners::find(&d, &regions, options.small_angle_deg);
         let mut refiner = refine::Refiner::new(&d, options, corners);
-        refiner.run(&mut d)?;
-        unfold_curved_elements(&mut d, &mut refiner, options.order)?;
+        let (base_sites, base_estimate) = (done_sites, done_estimate);
+        let mut report = |s: u64, e: u64| progress(base_sites + s, base_estimate + e.max(s));
+        refiner.run(&mut d, &mut report)?;
+        unfold_curved_elements(&mut d, &mut refiner, options.order, &mut report)?;
+        done_sites += d.tr.vertex_count() as u64;
+        done_estimate += refiner.estimate.max(d.tr.vertex_count() as u64);
+        progress(done_sites, done_estimate);
         stats.seconds_refine += t.elapsed().as_secs_f64();
         let t = Instant::now();
         let r = refiner.stats;
@@ -217,6 +235,7 @@ fn unfold_curved_elements(
     d: &mut domain::Domain,
     refiner: &mut refine::Refiner,
     q: u32,
+    progress: &mut dyn FnMut(u64, u64),
 ) -> crate::Result<()> {
     if q == 1 {
         return Ok(());
@@ -264,7 +283,7 @@ fn unfold_curved_elements(
                 .into());
             }
         }
-        refiner.drain(d)?;
+        refiner.drain(d, progress)?;
     }
     Ok(())
 }

@@ -37,6 +37,7 @@ use super::corners::Corners;
 use super::domain::{Domain, VertexKind};
 use super::error::CurvedError;
 use super::options::CurvedOptions;
+use super::tensor::Metric2;
 use super::triangulation::{tri_of, Cavity, Located, NONE};
 use crate::error::Error;
 
@@ -162,6 +163,9 @@ pub(crate) struct Refiner<'o> {
     pub stats: RefineStats,
     max_sites: u64,
     max_steps: u64,
+    /// A rough count of the sites the mesh will need (the first triangulation's area in the
+    /// metric over a unit triangle's, halved), for progress reports.
+    pub estimate: u64,
 }
 
 impl<'o> Refiner<'o> {
@@ -179,6 +183,7 @@ impl<'o> Refiner<'o> {
             stats: RefineStats::default(),
             max_sites,
             max_steps: opts.max_steps.unwrap_or(8 * max_sites),
+            estimate: estimate_sites(d, opts.size_bound),
         }
     }
 
@@ -254,7 +259,7 @@ impl<'o> Refiner<'o> {
     }
 
     /// Runs the refinement to the end (or a budget).
-    pub fn run(&mut self, d: &mut Domain) -> Result<(), Error> {
+    pub fn run(&mut self, d: &mut Domain, progress: &mut dyn FnMut(u64, u64)) -> Result<(), Error> {
         // The first triangulation came from insertions into an enclosing triangle and edge
         // flips for the constraints: make it locally Delaunay in the metric first.
         let mut stack: Vec<(u32, u32)> = (0..d.tr.triangle_slots() as u32)
@@ -269,13 +274,21 @@ impl<'o> Refiner<'o> {
         for t in 0..d.tr.triangle_slots() as u32 {
             self.push_triangle(d, t);
         }
-        self.drain(d)
+        self.drain(d, progress)
     }
 
-    /// Fixes violations until the queue is empty (or a budget runs out).
-    pub fn drain(&mut self, d: &mut Domain) -> Result<(), Error> {
+    /// Fixes violations until the queue is empty (or a budget runs out), calling
+    /// `progress(sites, estimate)` every few thousand steps.
+    pub fn drain(
+        &mut self,
+        d: &mut Domain,
+        progress: &mut dyn FnMut(u64, u64),
+    ) -> Result<(), Error> {
         while let Some(task) = self.heap.pop() {
             self.stats.steps += 1;
+            if self.stats.steps % 4096 == 0 {
+                progress(d.tr.vertex_count() as u64, self.estimate);
+            }
             if self.stats.steps > self.max_steps {
                 return Err(CurvedError::Budget {
                     what: "refinement steps",
@@ -509,4 +522,27 @@ impl<'o> Refiner<'o> {
 
 fn cav_contains(c: &Cavity, t: u32) -> bool {
     c.tris.contains(&t)
+}
+
+/// Sites a mesh of Ω_lin will need, roughly: its area in the metric (mean metric of each
+/// first triangle) over that of a triangle with circumradius `size_bound`, halved (a
+/// triangulation has about twice as many triangles as vertices).
+fn estimate_sites(d: &Domain, size_bound: f64) -> u64 {
+    let unit = 3.0 * 3f64.sqrt() / 4.0 * size_bound * size_bound;
+    let mut area = 0.0;
+    for t in 0..d.tr.triangle_slots() as u32 {
+        if !d.tr.alive[t as usize] {
+            continue;
+        }
+        let v = d.tr.tri(t);
+        let p = v.map(|i| d.tr.pos[i as usize]);
+        let m = v
+            .iter()
+            .fold(Metric2::new(0.0, 0.0, 0.0), |a, &i| {
+                a.add(&d.tr.metric[i as usize])
+            })
+            .scale(1.0 / 3.0);
+        area += 0.5 * (p[1] - p[0]).perp_dot(p[2] - p[0]).abs() * m.det().max(0.0).sqrt();
+    }
+    (area / unit / 2.0).ceil() as u64 + d.tr.vertex_count() as u64
 }

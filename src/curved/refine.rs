@@ -286,7 +286,7 @@ impl<'o> Refiner<'o> {
     ) -> Result<(), Error> {
         while let Some(task) = self.heap.pop() {
             self.stats.steps += 1;
-            if self.stats.steps % 4096 == 0 {
+            if self.stats.steps.is_multiple_of(4096) {
                 progress(d.tr.vertex_count() as u64, self.estimate);
             }
             if self.stats.steps > self.max_steps {

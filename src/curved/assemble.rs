@@ -270,6 +270,7 @@ fn empty_quality() -> ElementQuality {
         max_angle_xyz: f64::NAN,
         xyz_angles: [f64::NAN; 3],
         scaled_jacobian: f64::NAN,
+        scaled_jacobian_surface: f64::NAN,
     }
 }
 
@@ -325,11 +326,15 @@ pub(crate) fn curved_nodes(
             }
         })
         .collect();
+    // Interior nodes: placed in parameter space, where det DF's coefficients are affine in
+    // each one. On the surface the element is P ∘ F, valid where F is; Gmsh's own check of
+    // surface elements (the signed Jacobian along the corners' normal) is measured apart, as
+    // `scaled_jacobian_surface`.
+    let coefficients = |uv: &[DVec2]| control_points(q, uv, inv).jacobian_coefficients();
     let m = if q >= 3 {
-        optimize_interior(q, &mut nodes, inv)
+        optimize_interior(q, &mut nodes, &coefficients)
     } else {
-        control_points(q, &nodes, inv)
-            .jacobian_coefficients()
+        coefficients(&nodes)
             .into_iter()
             .fold(f64::INFINITY, f64::min)
     };

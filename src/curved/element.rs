@@ -239,13 +239,18 @@ pub(crate) fn collocation_inverse(q: u32) -> Vec<Vec<f64>> {
 
 /// Places the interior nodes of a curved element of order `q ≥ 3` (the boundary nodes in
 /// `nodes` are fixed: the curve's points and the straight edges' equispaced points) to make
-/// the smallest Bézier coefficient of `det DF` as large as possible, one interior node at a
-/// time. With one free node every coefficient is affine in it (`a × a = 0`), so the best
+/// the smallest of `coefficients(nodes)` as large as possible, one interior node at a time.
+/// `coefficients` gives the Bézier coefficients of `det DF` ([`BezierTriangle::jacobian_coefficients`]
+/// of [`control_points`]); with one free node each is affine in it (`a × a = 0`), so the best
 /// position is a linear program, solved by its vertices. Returns the smallest coefficient
 /// (> 0: the element is valid everywhere) [DESIGN: the spec's elevated interior control
 /// points fold the thin curved triangles on a curve's convex side; BG's own construction
 /// moves them too].
-pub(crate) fn optimize_interior(q: u32, nodes: &mut [DVec2], inv: &[Vec<f64>]) -> f64 {
+pub(crate) fn optimize_interior(
+    q: u32,
+    nodes: &mut [DVec2],
+    coefficients: &dyn Fn(&[DVec2]) -> Vec<f64>,
+) -> f64 {
     let layout = lagrange_layout(q);
     let interior: Vec<usize> = (0..layout.len())
         .filter(|&k| {
@@ -254,8 +259,7 @@ pub(crate) fn optimize_interior(q: u32, nodes: &mut [DVec2], inv: &[Vec<f64>]) -
         })
         .collect();
     let min_coef = |nodes: &[DVec2]| -> f64 {
-        let tri = control_points(q, nodes, inv);
-        tri.jacobian_coefficients()
+        coefficients(nodes)
             .into_iter()
             .fold(f64::INFINITY, f64::min)
     };
@@ -274,7 +278,7 @@ pub(crate) fn optimize_interior(q: u32, nodes: &mut [DVec2], inv: &[Vec<f64>]) -
             let x0 = nodes[k];
             let f = |x: DVec2, nodes: &mut [DVec2]| -> Vec<f64> {
                 nodes[k] = x;
-                control_points(q, nodes, inv).jacobian_coefficients()
+                coefficients(nodes)
             };
             let scale = (hi - lo).length().max(1e-300);
             let c0 = f(x0, nodes);
@@ -327,6 +331,31 @@ pub(crate) fn optimize_interior(q: u32, nodes: &mut [DVec2], inv: &[Vec<f64>]) -
         }
     }
     best
+}
+
+/// The Bézier triangle, in the plane of its corners, of a surface element with Lagrange
+/// nodes `xyz`: the control points projected onto the orthonormal frame of the corners'
+/// plane. Its [`BezierTriangle::jacobian_coefficients`] are those of `(∂X/∂ξ × ∂X/∂η)·n`
+/// with `n` the straight element's normal — the signed Jacobian Gmsh checks surface elements
+/// by. `None` for degenerate corners.
+pub(crate) fn projected_control_points(
+    q: u32,
+    xyz: &[glam::DVec3],
+    inv: &[Vec<f64>],
+) -> Option<BezierTriangle> {
+    let (a, b, c) = (xyz[0], xyz[1], xyz[2]);
+    let n = (b - a).cross(c - a);
+    if n.length_squared().is_nan() || n.length_squared() <= 0.0 {
+        return None;
+    }
+    let n = n.normalize();
+    let e1 = (b - a).normalize();
+    let e2 = n.cross(e1);
+    let nodes: Vec<DVec2> = xyz
+        .iter()
+        .map(|p| DVec2::new((*p - a).dot(e1), (*p - a).dot(e2)))
+        .collect();
+    Some(control_points(q, &nodes, inv))
 }
 
 /// The Bézier triangle of Lagrange nodes (with a precomputed [`collocation_inverse`]).
@@ -395,7 +424,11 @@ mod tests {
             .iter()
             .map(|&[a, b]| tri.eval(a as f64 / 3.0, b as f64 / 3.0))
             .collect();
-        assert!(optimize_interior(3, &mut nodes, &inv) > 0.0);
+        assert!(
+            optimize_interior(3, &mut nodes, &|n: &[DVec2]| control_points(3, n, &inv)
+                .jacobian_coefficients())
+                > 0.0
+        );
         // Interpolating it at order 3 and converting back gives the same control points.
         let nodes: Vec<DVec2> = lagrange_layout(3)
             .iter()
@@ -455,7 +488,9 @@ mod lens {
                     .map(|&[a, b]| ray_map(&piece, g, a as f64 / q as f64, b as f64 / q as f64))
                     .collect();
                 let _ = &exact;
-                let m = optimize_interior(q, &mut nodes, &inv);
+                let m = optimize_interior(q, &mut nodes, &|n: &[DVec2]| {
+                    control_points(q, n, &inv).jacobian_coefficients()
+                });
                 assert!(
                     m > 0.0,
                     "order {q}, piece of width {}: {m}",

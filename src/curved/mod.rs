@@ -210,6 +210,22 @@ pub fn mesh_with_progress(
         .zip(assembly.node_patch.par_iter())
         .map(|(uv, p)| input.patches[p.idx()].eval(uv.x, uv.y))
         .collect();
+    // On the surface, each element's signed Jacobian along its corners' normal (Gmsh's check).
+    let order = options.order;
+    let inv = element::collocation_inverse(order);
+    let npe = ((order + 1) * (order + 2) / 2) as usize;
+    let surface: Vec<f64> = assembly
+        .elements
+        .par_chunks(npe)
+        .map(|nodes| {
+            let xyz: Vec<glam::DVec3> = nodes.iter().map(|&n| nodes_xyz[n as usize]).collect();
+            element::projected_control_points(order, &xyz, &inv)
+                .map_or(-1.0, |t| quality::scaled_jacobian(&t))
+        })
+        .collect();
+    for (info, s) in assembly.info.iter_mut().zip(surface) {
+        info.quality.scaled_jacobian_surface = s;
+    }
     let q: Vec<(ElementKind, bool, output::ElementQuality)> = assembly
         .info
         .iter()
@@ -243,6 +259,7 @@ fn unfold_curved_elements(
     let inv = element::collocation_inverse(q);
     for round in 0..=8 {
         let mut folded: Vec<u32> = Vec::new();
+        let mut tilted: Vec<u32> = Vec::new();
         for (id, piece) in d.guarded.pieces.iter().enumerate() {
             let Some(piece) = piece else { continue };
             if piece.is_linear() {
@@ -250,15 +267,24 @@ fn unfold_curved_elements(
             }
             let sides = d.curve_regions[piece.curve as usize];
             for (k, right) in [false, true].into_iter().enumerate() {
-                if sides[k] != triangulation::NONE
-                    && assemble::curved_nodes(d, id as u32, right, q, &inv).1 <= 0.0
-                {
+                if sides[k] == triangulation::NONE {
+                    continue;
+                }
+                let (nodes, m) = assemble::curved_nodes(d, id as u32, right, q, &inv);
+                if m <= 0.0 {
                     folded.push(id as u32);
+                    break;
+                }
+                // Valid in parameter space but not by Gmsh's check on the surface (a thin
+                // element whose corners' plane tilts away from the surface): bisecting makes
+                // it flatter, for a few rounds; what remains is reported per element.
+                if round < SURFACE_ROUNDS && !surface_valid(d, q, &nodes, &inv) {
+                    tilted.push(id as u32);
                     break;
                 }
             }
         }
-        if folded.is_empty() {
+        if folded.is_empty() && tilted.is_empty() {
             return Ok(());
         }
         if round == 8 {
@@ -270,6 +296,11 @@ fn unfold_curved_elements(
                 order: q,
             }
             .into());
+        }
+        for id in tilted {
+            if d.guarded.pieces[id as usize].is_some() {
+                refiner.split_piece(d, id, None)?;
+            }
         }
         for id in folded {
             if d.guarded.pieces[id as usize].is_some() && !refiner.split_piece(d, id, None)? {
@@ -286,4 +317,85 @@ fn unfold_curved_elements(
         refiner.drain(d, progress)?;
     }
     Ok(())
+}
+
+/// Rounds of bisection spent on curved elements Gmsh's surface check would flag.
+const SURFACE_ROUNDS: u32 = 3;
+
+/// Whether the curved element with uv nodes `uv` passes Gmsh's check on the surface: its
+/// signed Jacobian along the corners' normal, with nodes `P(u, v)`, positive.
+fn surface_valid(d: &domain::Domain, q: u32, uv: &[glam::DVec2], inv: &[Vec<f64>]) -> bool {
+    let xyz: Vec<glam::DVec3> = uv.iter().map(|p| d.metric.patch.eval(p.x, p.y)).collect();
+    element::projected_control_points(q, &xyz, inv)
+        .is_some_and(|t| quality::scaled_jacobian(&t) > 0.0)
+}
+
+/// The parameter-space metric [`mesh`] follows at `uv` on `patch`: the real-space metric
+/// pulled back (`Jᵀ M J`, seed 000 §4 Step 1) and clamped as `options` say, or the
+/// parameter-space field's value. For front ends and comparisons that need the same metric.
+pub fn metric_at(
+    input: &TrimmedPatches,
+    options: &CurvedOptions,
+    patch: PatchId,
+    uv: glam::DVec2,
+) -> crate::Result<Metric2> {
+    let p = input
+        .patches
+        .get(patch.idx())
+        .ok_or_else(|| crate::Error::InvalidArgument(format!("patch {patch} does not exist")))?;
+    let pm = field::PatchMetric::new(&input.metric, p, patch.0, options.clamp());
+    Ok(pm.at(uv)?)
+}
+
+/// Measures any triangle mesh of `patch`'s parameter square (`uv` positions, counter-clockwise
+/// `triangles`) the way [`mesh`] measures its own straight elements (spec §6): angles in each
+/// vertex's metric, sampled over a lattice, and on the flat triangles in R³. For comparing
+/// another mesher's output on the same input and metric (all triangles count as straight and
+/// not exempt).
+pub fn measure_triangles(
+    input: &TrimmedPatches,
+    options: &CurvedOptions,
+    patch: PatchId,
+    uv: &[glam::DVec2],
+    triangles: &[[u32; 3]],
+) -> crate::Result<(Vec<ElementQuality>, QualityReport)> {
+    use rayon::prelude::*;
+    let p = input
+        .patches
+        .get(patch.idx())
+        .ok_or_else(|| crate::Error::InvalidArgument(format!("patch {patch} does not exist")))?;
+    let pm = field::PatchMetric::new(&input.metric, p, patch.0, options.clamp());
+    let metrics = uv
+        .iter()
+        .map(|&x| pm.at(x))
+        .collect::<Result<Vec<_>, _>>()?;
+    for (t, tri) in triangles.iter().enumerate() {
+        if let Some(&v) = tri.iter().find(|&&v| v as usize >= uv.len()) {
+            return Err(crate::Error::InvalidArgument(format!(
+                "triangle {t} refers to vertex {v}, but there are {} vertices",
+                uv.len()
+            )));
+        }
+    }
+    let measure = quality::Measure {
+        metric: &pm,
+        field: &input.metric,
+        patch: p,
+        samples: options.angle_samples,
+        sampled: options.sampled_quality,
+    };
+    let q: Vec<ElementQuality> = triangles
+        .par_iter()
+        .map(|t| {
+            let pts = t.map(|v| uv[v as usize]);
+            let ms = t.map(|v| metrics[v as usize]);
+            measure.straight(&pts, &ms)
+        })
+        .collect();
+    let tagged: Vec<(ElementKind, bool, ElementQuality)> = q
+        .iter()
+        .map(|e| (ElementKind::Straight, false, *e))
+        .collect();
+    let report = quality::QualityReport::of(&tagged, options.guaranteed_angle_deg());
+    Ok((q, report))
 }

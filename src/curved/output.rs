@@ -51,6 +51,9 @@ pub struct ElementQuality {
     /// Smallest over largest Jacobian determinant of the element in parameter space (1 for
     /// a straight one); > 0 means valid.
     pub scaled_jacobian: f64,
+    /// The same for the element on the surface (nodes `P(u, v)`), with the determinant taken
+    /// along its corners' normal as Gmsh checks surface elements.
+    pub scaled_jacobian_surface: f64,
 }
 
 /// Where an element comes from and how good it is.

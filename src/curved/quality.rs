@@ -80,8 +80,10 @@ pub struct QualityReport {
     pub all_angles_xyz: AngleStats,
     /// Elements at small input angles (no bound) and their smallest vertex-metric angle.
     pub exempt: AngleStats,
-    /// The smallest scaled Jacobian over all elements (> 0: all valid).
+    /// The smallest scaled Jacobian over all elements (> 0: all valid), in parameter space and
+    /// on the surface.
     pub min_scaled_jacobian: f64,
+    pub min_scaled_jacobian_surface: f64,
 }
 
 impl QualityReport {
@@ -106,6 +108,10 @@ impl QualityReport {
             min_scaled_jacobian: q
                 .iter()
                 .map(|e| e.2.scaled_jacobian)
+                .fold(f64::INFINITY, f64::min),
+            min_scaled_jacobian_surface: q
+                .iter()
+                .map(|e| e.2.scaled_jacobian_surface)
                 .fold(f64::INFINITY, f64::min),
         }
     }
@@ -266,6 +272,7 @@ impl Measure<'_> {
             max_angle_xyz: xmax,
             xyz_angles,
             scaled_jacobian: jac.unwrap_or(1.0),
+            scaled_jacobian_surface: f64::NAN,
         }
     }
 }
@@ -276,7 +283,12 @@ impl Measure<'_> {
 pub(crate) fn scaled_jacobian(tri: &BezierTriangle) -> f64 {
     let coef = tri.jacobian_coefficients();
     let deg = 2 * tri.degree.saturating_sub(1);
-    let n = (deg + 2).max(8);
+    // A denser lattice where the coefficients do not prove the sign (thin elements).
+    let n = if coef.iter().all(|&c| c > 0.0) {
+        (deg + 2).max(8)
+    } else {
+        (4 * deg).max(32)
+    };
     let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
     for i in 0..=n {
         for j in 0..=n - i {

@@ -1,7 +1,8 @@
-//! Builds the C++ shim over OpenSubdiv, OpenMesh and CGAL and generates its Rust bindings.
+//! Builds the C++ shim over OpenSubdiv, OpenMesh and CGAL and generates its Rust bindings,
+//! and the bindings of Gmsh's C API.
 //!
 //! Needs the Debian packages libosd-dev, libopenmesh-dev, libcgal-dev (with libgmp-dev and
-//! libmpfr-dev), libclang-dev and a C++ compiler (g++),
+//! libmpfr-dev), libgmsh-dev, libclang-dev and a C++ compiler (g++),
 //! which `cargo xtask deps` installs. When one is missing the build stops with a message naming
 //! the package instead of a compiler or linker error.
 //!
@@ -36,12 +37,18 @@ const HEADERS: &[(&str, &str, &str)] = &[
         "CGAL 5 headers",
     ),
     ("mpfr.h", "libmpfr-dev", "MPFR headers (for CGAL)"),
+    ("gmshc.h", "libgmsh-dev", "Gmsh 4.8's C API header"),
 ];
 const LIBRARIES: &[(&str, &str, &str)] = &[
     ("osdCPU", "libosd-dev", "OpenSubdiv's CPU library"),
     ("OpenMeshCore", "libopenmesh-dev", "OpenMesh's core library"),
     ("gmp", "libgmp-dev", "GMP (CGAL's exact numbers)"),
     ("mpfr", "libmpfr-dev", "MPFR (CGAL's exact numbers)"),
+    (
+        "gmsh",
+        "libgmsh-dev",
+        "Gmsh 4.8 (the peer for curved meshing)",
+    ),
 ];
 
 fn main() {
@@ -167,6 +174,26 @@ fn main() {
     let out = PathBuf::from(env::var_os("OUT_DIR").expect("cargo sets OUT_DIR"));
     if let Err(e) = bindings.write_to_file(out.join("bindings.rs")) {
         fail(&format!("writing the generated bindings failed: {e}"));
+    }
+
+    // Gmsh's own C API (a C header, no shim needed), for curved meshing (seed 000).
+    let gmsh_header = include_dirs
+        .iter()
+        .map(|d| d.join("gmshc.h"))
+        .find(|p| p.is_file())
+        .expect("checked above");
+    let gmsh = bindgen::Builder::default()
+        .header(gmsh_header.to_string_lossy())
+        .allowlist_function("gmsh.*")
+        .layout_tests(false)
+        .generate();
+    match gmsh {
+        Ok(b) => {
+            if let Err(e) = b.write_to_file(out.join("gmsh_bindings.rs")) {
+                fail(&format!("writing the Gmsh bindings failed: {e}"));
+            }
+        }
+        Err(e) => fail(&format!("bindgen could not read gmshc.h: {e}")),
     }
 }
 

@@ -130,7 +130,10 @@ fn summary(m: &CurvedMesh) -> Vec<String> {
             "all corner angles (straight elements): min {:.2}°, max {:.2}°, mean {:.2}°, median {:.2}°",
             q.straight_angles.min, q.straight_angles.max, q.straight_angles.mean, q.straight_angles.median
         ),
-        format!("smallest scaled Jacobian: {:.4}", q.min_scaled_jacobian),
+        format!(
+            "smallest scaled Jacobian: {:.4} in parameter space, {:.4} on the surface",
+            q.min_scaled_jacobian, q.min_scaled_jacobian_surface
+        ),
         format!(
             "time: {:.3} s (validation {:.3}, guarding {:.3}, refinement {:.3}, output {:.3}); {} sites inserted, {} curve bisections",
             s.seconds_validate + s.seconds_guard + s.seconds_refine + s.seconds_output,
@@ -180,6 +183,7 @@ fn report(m: &CurvedMesh, o: &CurvedOptions) -> Value {
             "exempt_min_in_vertex_metrics": stats(&q.exempt),
         },
         "min_scaled_jacobian": q.min_scaled_jacobian,
+        "min_scaled_jacobian_surface": q.min_scaled_jacobian_surface,
         "refinement": {
             "sites_inserted": s.refine.insertions,
             "curve_bisections": s.refine.bisections,

@@ -75,6 +75,7 @@ use std::ops::Range;
 use std::time::Duration;
 
 pub mod cut_setup;
+pub mod gmsh;
 
 #[allow(
     non_camel_case_types,

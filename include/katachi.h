@@ -48,7 +48,7 @@
  * break a program compiled against an older header (a function's signature, a struct's
  * layout beyond its `struct_size`, a status's meaning). Adding functions does not change it.
  */
-#define KATACHI_ABI_VERSION 2
+#define KATACHI_ABI_VERSION 1
 
 /**
  * The result of a katachi call. `KATACHI_STATUS_OK` (0) is success; every other value is a
@@ -100,10 +100,6 @@ enum KatachiStatus
      * with the message.
      */
     KATACHI_STATUS_INTERNAL_ERROR = 7,
-    /**
-     * The caller cancelled the call through its progress function; nothing was returned.
-     */
-    KATACHI_STATUS_CANCELLED = 8,
 };
 #ifndef __cplusplus
 #if __STDC_VERSION__ >= 202311L
@@ -285,30 +281,42 @@ typedef uint32_t KatachiCutStage;
 #endif // __cplusplus
 
 /**
- * How sharpness is given or read in the `_f32` calls that take a `scale`.
+ * Where node coordinates live (`katachi_curved_mesh_copy_nodes`, `katachi_curved_mesh_write`).
  */
-enum KatachiSharpnessScale
+enum KatachiCurvedSpace
 #if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
   : uint32_t
 #endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
  {
     /**
-     * OpenSubdiv's sharpness: 0 smooth, values in (0, 10) semi-sharp, ≥ 10 infinitely sharp.
+     * On the surface: `P(u, v)` of every node (3 values per node).
      */
-    KATACHI_SHARPNESS_SCALE_SHARPNESS = 0,
+    KATACHI_CURVED_SPACE_SURFACE = 0,
     /**
-     * A crease weight in [0, 1], Blender's: sharpness = 10 × crease² (the mapping Blender's
-     * Subdivision Surface modifier uses with OpenSubdiv), so crease 1 is infinitely sharp.
+     * In the patch's parameter square: `(u, v, 0)` (3 values per node), where curved edges
+     * are the input curves exactly when the order is at least their degree.
      */
-    KATACHI_SHARPNESS_SCALE_CREASE = 1,
+    KATACHI_CURVED_SPACE_PARAMETER = 1,
 };
 #ifndef __cplusplus
 #if __STDC_VERSION__ >= 202311L
-typedef enum KatachiSharpnessScale KatachiSharpnessScale;
+typedef enum KatachiCurvedSpace KatachiCurvedSpace;
 #else
-typedef uint32_t KatachiSharpnessScale;
+typedef uint32_t KatachiCurvedSpace;
 #endif // __STDC_VERSION__ >= 202311L
 #endif // __cplusplus
+
+/**
+ * The input of `katachi_curved_mesh` under construction: patches, curves, regions and the
+ * metric. Opaque; make it with `katachi_curved_input_new`, free it with
+ * `katachi_curved_input_free`.
+ */
+typedef struct KatachiCurvedInput KatachiCurvedInput;
+
+/**
+ * The result of `katachi_curved_mesh`. Opaque; free it with `katachi_curved_mesh_free`.
+ */
+typedef struct KatachiCurvedMesh KatachiCurvedMesh;
 
 /**
  * The result of `katachi_cut_by_stroke`: the cut mesh, where its faces come from, the cut
@@ -327,9 +335,8 @@ typedef struct KatachiCut KatachiCut;
 typedef struct KatachiMesh KatachiMesh;
 
 /**
- * The result of `katachi_subdivide`: the refined mesh, read out with the copy calls, and the
- * hierarchy through which the caller's vertex data and UVs follow. It keeps no copy of the
- * input. Opaque; free it with `katachi_subdivision_free`.
+ * The result of `katachi_subdivide`: the refined mesh and the hierarchy through which the
+ * caller's vertex data and UVs follow. Opaque; free it with `katachi_subdivision_free`.
  */
 typedef struct KatachiSubdivision KatachiSubdivision;
 
@@ -510,18 +517,10 @@ typedef struct KatachiSubdivideOptions {
      * Default 0.
      */
     double feature_angle_degrees;
-    /**
-     * 1: cut the result's faces with holes (method `[b]`'s, and those method `[a]` could not
-     * bridge) into simple polygons along bridge edges, for hosts that store no faces with
-     * holes; every count and copy of the result then describes the cut faces. Default 0.
-     */
-    uint32_t split_faces_with_holes;
 } KatachiSubdivideOptions;
 
 /**
- * Summary of a subdivision, filled in by `katachi_subdivision_info` (stored counts: the
- * call costs nothing). Counts describe the result as the copy calls give it: with
- * `split_faces_with_holes`, the cut faces.
+ * Summary of a subdivision, filled in by `katachi_subdivision_info`.
  */
 typedef struct KatachiSubdivisionInfo {
     /**
@@ -541,34 +540,13 @@ typedef struct KatachiSubdivisionInfo {
      */
     uint32_t face_count;
     /**
-     * Loops of the result: one per face, plus the holes of faces with holes (equal to
-     * `face_count` when there are none).
-     */
-    uint32_t loop_count;
-    /**
      * Face corners of the result (`katachi_subdivision_refine_face_varying` writes this many).
      */
     uint32_t corner_count;
     /**
-     * Edges of the result (`katachi_subdivision_copy_edges`).
-     */
-    uint32_t edge_count;
-    /**
-     * Edges with sharpness left after refinement.
-     */
-    uint32_t sharp_edge_count;
-    /**
-     * Vertices with sharpness left after refinement.
-     */
-    uint32_t sharp_vertex_count;
-    /**
      * Vertices of the input (`katachi_subdivision_refine_vertex_data` reads this many values).
      */
     uint32_t input_vertex_count;
-    /**
-     * Faces of the input (`katachi_subdivision_carry_face_data` reads this many values).
-     */
-    uint32_t input_face_count;
     /**
      * Face corners of the input (face-varying indices expected).
      */
@@ -577,6 +555,10 @@ typedef struct KatachiSubdivisionInfo {
      * Faces with holes that method `[a]` could not bridge and that method `[b]` refined instead.
      */
     uint32_t fallback_face_count;
+    /**
+     * Entries of the stencil matrix (`katachi_subdivision_copy_stencils`).
+     */
+    uint32_t stencil_entry_count;
 } KatachiSubdivisionInfo;
 
 /**
@@ -761,11 +743,143 @@ typedef struct KatachiCutInfo {
 } KatachiCutInfo;
 
 /**
- * Called by `katachi_cut_by_stroke_with_progress` on the calling thread after each step of
- * the cut: `done` steps of `total` are finished. Return 0 to go on, any other value to
- * cancel the cut. `user` is the pointer given with the callback.
+ * Options of `katachi_curved_mesh`. Start from `katachi_curved_options_default()`.
  */
-typedef uint32_t (*KatachiCutProgressFn)(uint32_t done, uint32_t total, void *user);
+typedef struct KatachiCurvedOptions {
+    /**
+     * Set by the caller to `sizeof(KatachiCurvedOptions)`.
+     */
+    uint32_t struct_size;
+    /**
+     * Order of the elements, 1 to 10. Default 2.
+     */
+    uint32_t order;
+    /**
+     * Most bisections of one input curve, 1 to 52. Default 50.
+     */
+    uint32_t max_split_depth;
+    /**
+     * Lattice density of the points where angles are measured inside an element, 1 to 64.
+     * Default 4.
+     */
+    uint32_t angle_samples;
+    /**
+     * 1: measure every element over the lattice and in R³ as well; 0: only the
+     * vertex-metric angles (what the bound is on). Default 1.
+     */
+    uint32_t sampled_quality;
+    /**
+     * Guard offset μ (seed 000 §2.2), in (0, 1). Default 1e-2.
+     */
+    double mu;
+    /**
+     * A guarded curve piece is split while its control vectors spread over more than this
+     * many degrees, in (0, 180). Default 179.
+     */
+    double max_cone_degrees;
+    /**
+     * Refinement bound B on circumradius over shortest edge in the metric, ≥ √2: B = 2
+     * guarantees angles ≥ 14.48°. Default 2.
+     */
+    double radius_edge_bound;
+    /**
+     * Largest circumradius in metric units (> 0). Default 1/√3 (unit edges).
+     */
+    double size_bound;
+    /**
+     * Input corners below this angle in the metric are protected and their triangles
+     * exempt from the bound, in [0, 180). Default 60.
+     */
+    double small_angle_degrees;
+    /**
+     * Largest anisotropy a metric may ask for (≥ 1). Default 1000.
+     */
+    double max_anisotropy;
+    /**
+     * Smallest and largest edge length, in parameter units, a metric may ask for
+     * (0 < min < max). Defaults 1e-7 and 1.
+     */
+    double min_uv_size;
+    double max_uv_size;
+    /**
+     * Most vertices; 0 means `10 × boundary vertices + 10⁶`. Exceeding it is
+     * `KATACHI_STATUS_BAD_INPUT` naming the budget. Default 0.
+     */
+    uint64_t max_sites;
+    /**
+     * Most refinement steps; 0 means `8 × max_sites`. Default 0.
+     */
+    uint64_t max_steps;
+    /**
+     * Most curve pieces after guarding (≥ 1). Default 1,000,000.
+     */
+    uint64_t max_curve_pieces;
+} KatachiCurvedOptions;
+
+/**
+ * Counts and quality of a curved mesh, filled in by `katachi_curved_mesh_info`. Angles are
+ * in degrees, measured in the metric (seed 000 §5.1).
+ */
+typedef struct KatachiCurvedInfo {
+    /**
+     * Set by the caller to `sizeof(KatachiCurvedInfo)`.
+     */
+    uint32_t struct_size;
+    /**
+     * The element order.
+     */
+    uint32_t order;
+    /**
+     * Nodes per element, `(order + 1)(order + 2) / 2`.
+     */
+    uint32_t nodes_per_element;
+    /**
+     * Nodes (`katachi_curved_mesh_copy_nodes` writes 3 values per node).
+     */
+    uint32_t node_count;
+    /**
+     * Elements (`katachi_curved_mesh_copy_elements` writes `nodes_per_element` per element).
+     */
+    uint32_t element_count;
+    /**
+     * Elements with an edge on a trim curve.
+     */
+    uint32_t curved_element_count;
+    /**
+     * Straight elements at small input angles: no bound applies.
+     */
+    uint32_t exempt_element_count;
+    /**
+     * The bound the refinement guarantees on straight, non-exempt elements.
+     */
+    double guaranteed_angle_degrees;
+    /**
+     * Per straight, non-exempt element, its smallest angle in its vertices' metrics: the
+     * smallest, the median, and the share (0 to 1) below 14.48° and below 20°.
+     */
+    double min_angle_degrees;
+    double median_min_angle_degrees;
+    double share_below_14_48;
+    double share_below_20;
+    /**
+     * Every corner angle of the straight elements: min, max, mean, median (the statistics
+     * of the seed's Tables 1 and 2).
+     */
+    double corner_angle_min_degrees;
+    double corner_angle_max_degrees;
+    double corner_angle_mean_degrees;
+    double corner_angle_median_degrees;
+    /**
+     * The smallest scaled Jacobian (> 0: all elements valid), in parameter space and on the
+     * surface (along each element's corners' normal, as Gmsh checks).
+     */
+    double min_scaled_jacobian;
+    double min_scaled_jacobian_surface;
+    /**
+     * Seconds spent meshing.
+     */
+    double seconds;
+} KatachiCurvedInfo;
 
 #ifdef __cplusplus
 extern "C" {
@@ -1084,96 +1198,6 @@ KatachiStatus katachi_mesh_split_faces_with_holes(const struct KatachiMesh *mesh
                                                   size_t capacity);
 
 /**
- * Creates a mesh of simple polygons from a host's arrays, as Blender stores a mesh:
- *
- * - `positions`: 3 × `vertex_count` floats, `x0 y0 z0 x1 …` (kept as doubles); every value finite;
- * - `face_starts`: `face_count` values, the index of each face's first corner in
- *   `corner_vertices`;
- * - `face_sizes`: `face_count` values, the corners of each face (each ≥ 3), or NULL when the
- *   faces are stored one after the other: then `face_starts` ascends and each face ends
- *   where the next one starts (the last at `corner_count`);
- * - `corner_vertices`: `corner_count` vertex indices; the faces' corners add up to
- *   `corner_count`.
- *
- * When the faces' corners are not stored face after face, katachi reads them in face order
- * and remembers the host's order: the per-corner calls on results of this mesh
- * (`katachi_subdivision_refine_corner_data_f32`) then read values in the host's order too.
- * The arrays are copied. On success `*out` receives a new mesh (free it with
- * `katachi_mesh_free`); on failure `*out` is NULL.
- *
- * Statuses: `KATACHI_STATUS_OK`; `KATACHI_STATUS_NULL_POINTER` (`out` NULL, or an array NULL
- * with a nonzero count); `KATACHI_STATUS_INVALID_ARGUMENT` (a face's corners outside
- * `corner_vertices`, sizes that do not add up to `corner_count`, starts that do not ascend
- * when `face_sizes` is NULL; the message names the face); `KATACHI_STATUS_BAD_INPUT` (as
- * `katachi_mesh_create`: a non-finite coordinate, an index out of range, a face with fewer
- * than 3 distinct vertices or a repeated vertex).
- *
- * # Safety
- * Each non-NULL array must hold the number of elements stated above; `out` must be NULL or
- * point to writable storage for one pointer.
- */
-KatachiStatus katachi_mesh_create_polygons_f32(const float *positions,
-                                               uint32_t vertex_count,
-                                               const uint32_t *face_starts,
-                                               const uint32_t *face_sizes,
-                                               uint32_t face_count,
-                                               const uint32_t *corner_vertices,
-                                               uint32_t corner_count,
-                                               struct KatachiMesh **out);
-
-/**
- * Sets edge sharpness from a host's edge list, all or nothing, and counts the host's loose
- * edges:
- *
- * - `edges`: 2 × `edge_count` vertex indices (`a0 b0 a1 b1 …`), the host's edges;
- * - `values`: `edge_count` values in `scale` (a `KatachiSharpnessScale`), or NULL to set
- *   nothing. Edges whose value is 0 are skipped, and so is an edge that is no side of any
- *   face (a loose edge); other edges keep their sharpness;
- * - `corner_edges`: `corner_count` values, the host's edge of each corner (in any order of
- *   the corners), or NULL;
- * - `*loose_edges` (when not NULL): how many of the host's edges are no side of any face —
- *   counted exactly with `corner_edges` (the edges no corner names), otherwise only among
- *   the edges with a nonzero value.
- *
- * Statuses: `KATACHI_STATUS_OK`; `KATACHI_STATUS_NULL_POINTER` (`mesh` NULL, or `edges` NULL
- * with `edge_count > 0`); `KATACHI_STATUS_INVALID_ARGUMENT` (a vertex index out of range or
- * an edge with twice the same vertex, named by its position; a corner's edge out of range;
- * `corner_count` not the mesh's; a bad `scale`); `KATACHI_STATUS_BAD_INPUT` (a value outside
- * the scale, named by its edge). On failure the mesh is unchanged.
- *
- * # Safety
- * `mesh` must be NULL or a live handle that no other call is using; non-NULL arrays must
- * hold the counts above; `loose_edges` NULL or writable.
- */
-KatachiStatus katachi_mesh_set_edge_sharpness_f32(struct KatachiMesh *mesh,
-                                                  const uint32_t *edges,
-                                                  const float *values,
-                                                  uint32_t edge_count,
-                                                  const uint32_t *corner_edges,
-                                                  uint32_t corner_count,
-                                                  uint32_t scale,
-                                                  uint32_t *loose_edges);
-
-/**
- * Replaces the sharpness of every vertex from a host's array, all or nothing: `values`
- * holds `count` values in `scale` (a `KatachiSharpnessScale`), one per vertex; `count` must
- * equal the vertex count.
- *
- * Statuses: `KATACHI_STATUS_OK`; `KATACHI_STATUS_NULL_POINTER`;
- * `KATACHI_STATUS_INVALID_ARGUMENT` (`count` is not the vertex count, a bad `scale`);
- * `KATACHI_STATUS_BAD_INPUT` (a value outside the scale, named by its vertex). On failure
- * the mesh is unchanged.
- *
- * # Safety
- * `mesh` must be NULL or a live handle that no other call is using; a non-NULL `values`
- * must hold `count` floats.
- */
-KatachiStatus katachi_mesh_set_vertex_sharpness_f32(struct KatachiMesh *mesh,
-                                                    const float *values,
-                                                    uint32_t count,
-                                                    uint32_t scale);
-
-/**
  * A `KatachiMeshInfo` with `struct_size = sizeof(KatachiMeshInfo)`, counts 0, `genus` −1 and
  * flags false, ready to pass to `katachi_mesh_inspect`.
  */
@@ -1287,9 +1311,8 @@ KatachiStatus katachi_subdivision_info(const struct KatachiSubdivision *subdivis
                                        struct KatachiSubdivisionInfo *info);
 
 /**
- * A new mesh handle holding a copy of the refined mesh (with its remaining creases); the
- * caller frees it with `katachi_mesh_free`. On failure `*out` is NULL. To copy the result's
- * arrays, the copy calls on the subdivision need no mesh in between.
+ * A new mesh handle holding the refined mesh (with its remaining creases); the caller frees
+ * it with `katachi_mesh_free`. On failure `*out` is NULL.
  *
  * # Safety
  * `subdivision` NULL or a live handle; `out` NULL or writable.
@@ -1318,161 +1341,6 @@ KatachiStatus katachi_subdivision_copy_face_origin(const struct KatachiSubdivisi
 KatachiStatus katachi_subdivision_copy_fallback_faces(const struct KatachiSubdivision *subdivision,
                                                       uint32_t *faces,
                                                       size_t capacity);
-
-/**
- * Computes the stencil matrix (kept in the subdivision; the first call costs as much as
- * refining `input_vertex_count` sparse rows) and writes its number of entries to `*count`
- * (the size `katachi_subdivision_copy_stencils` needs for `sources` and `weights`).
- *
- * # Safety
- * `subdivision` NULL or a live handle; `count` NULL or writable.
- */
-KatachiStatus katachi_subdivision_stencil_entry_count(const struct KatachiSubdivision *subdivision,
-                                                      uint32_t *count);
-
-/**
- * Copies the result's positions: 3 × `vertex_count` doubles, `x0 y0 z0 x1 …`.
- *
- * # Safety
- * `subdivision` NULL or a live handle; `positions` NULL or writable for `capacity` doubles.
- */
-KatachiStatus katachi_subdivision_copy_positions(const struct KatachiSubdivision *subdivision,
-                                                 double *positions,
-                                                 size_t capacity);
-
-/**
- * Copies the result's positions as floats (a host's own precision, such as Blender's):
- * 3 × `vertex_count` values, each the nearest float to katachi's double.
- *
- * # Safety
- * `subdivision` NULL or a live handle; `positions` NULL or writable for `capacity` floats.
- */
-KatachiStatus katachi_subdivision_copy_positions_f32(const struct KatachiSubdivision *subdivision,
-                                                     float *positions,
-                                                     size_t capacity);
-
-/**
- * Copies the result's faces in the form `katachi_mesh_copy_faces` gives (loop sizes, loops
- * per face, corners), with the counts of `katachi_subdivision_info` (`loop_count`,
- * `face_count`, `corner_count`). A buffer whose count is 0 may be NULL.
- *
- * # Safety
- * `subdivision` NULL or a live handle; each buffer NULL or writable for its capacity.
- */
-KatachiStatus katachi_subdivision_copy_faces(const struct KatachiSubdivision *subdivision,
-                                             uint32_t *loop_sizes,
-                                             size_t loop_sizes_capacity,
-                                             uint32_t *face_loop_counts,
-                                             size_t face_loop_counts_capacity,
-                                             uint32_t *corners,
-                                             size_t corners_capacity);
-
-/**
- * Copies the result's faces as a host of simple polygons stores them (Blender): each
- * face's first corner (`face_starts`, `face_count` values), its number of corners
- * (`face_sizes`, `face_count` values) and the vertex of every corner (`corner_vertices`,
- * `corner_count` values). A NULL buffer is skipped. The result must have no faces with
- * holes (subdivide with `split_faces_with_holes`).
- *
- * Statuses: `KATACHI_STATUS_OK`; `KATACHI_STATUS_NULL_POINTER`;
- * `KATACHI_STATUS_BUFFER_TOO_SMALL`; `KATACHI_STATUS_INVALID_ARGUMENT` (the result has faces
- * with holes). On failure nothing is written.
- *
- * # Safety
- * `subdivision` NULL or a live handle; each buffer NULL or writable for its capacity.
- */
-KatachiStatus katachi_subdivision_copy_polygons(const struct KatachiSubdivision *subdivision,
-                                                uint32_t *face_starts,
-                                                size_t face_starts_capacity,
-                                                uint32_t *face_sizes,
-                                                size_t face_sizes_capacity,
-                                                uint32_t *corner_vertices,
-                                                size_t corner_vertices_capacity);
-
-/**
- * Copies the result's edges (computed on the first call, then kept): `edges` gets their
- * two vertices (2 × `edge_count` values), `corner_edges` the edge of each corner (the edge
- * from it to the next corner of its loop; `corner_count` values). A NULL buffer is skipped.
- *
- * # Safety
- * `subdivision` NULL or a live handle; each buffer NULL or writable for its capacity.
- */
-KatachiStatus katachi_subdivision_copy_edges(const struct KatachiSubdivision *subdivision,
-                                             uint32_t *edges,
-                                             size_t edges_capacity,
-                                             uint32_t *corner_edges,
-                                             size_t corner_edges_capacity);
-
-/**
- * Copies the sharpness left on each edge (`edge_count` floats, in `katachi_subdivision_copy_edges`'
- * order) in `scale` (a `KatachiSharpnessScale`; Blender's creases with
- * `KATACHI_SHARPNESS_SCALE_CREASE`): the user's creases not yet spent, 0 elsewhere.
- *
- * # Safety
- * `subdivision` NULL or a live handle; `values` NULL or writable for `capacity` floats.
- */
-KatachiStatus katachi_subdivision_copy_edge_sharpness_f32(const struct KatachiSubdivision *subdivision,
-                                                          float *values,
-                                                          size_t capacity,
-                                                          uint32_t scale);
-
-/**
- * Copies the sharpness left on each vertex (`vertex_count` floats) in `scale` (a
- * `KatachiSharpnessScale`): the user's corner sharpness not yet spent, 0 elsewhere.
- *
- * # Safety
- * `subdivision` NULL or a live handle; `values` NULL or writable for `capacity` floats.
- */
-KatachiStatus katachi_subdivision_copy_vertex_sharpness_f32(const struct KatachiSubdivision *subdivision,
-                                                            float *values,
-                                                            size_t capacity,
-                                                            uint32_t scale);
-
-/**
- * Carries per-face data of the input to the result's faces: `values` holds `value_count`
- * values of `value_size` bytes (1, 2, 4 or 8; one per input face: materials, smooth flags,
- * selections), and each result face gets its input face's value in `out` (`face_count`
- * values of `value_size` bytes). The bytes are copied as they are.
- *
- * Statuses: `KATACHI_STATUS_OK`; `KATACHI_STATUS_NULL_POINTER`;
- * `KATACHI_STATUS_INVALID_ARGUMENT` (`value_size` not 1, 2, 4 or 8, `value_count` not the
- * input's face count); `KATACHI_STATUS_BUFFER_TOO_SMALL` (`capacity`, in values).
- *
- * # Safety
- * `subdivision` NULL or a live handle; `values` NULL or readable for `value_count` values
- * of `value_size` bytes; `out` NULL or writable for `capacity` such values.
- */
-KatachiStatus katachi_subdivision_carry_face_data(const struct KatachiSubdivision *subdivision,
-                                                  const void *values,
-                                                  size_t value_count,
-                                                  uint32_t value_size,
-                                                  void *out,
-                                                  size_t capacity);
-
-/**
- * Interpolates per-corner data given as floats, as a host stores UV maps: `values` holds
- * `components` floats per input corner (`value_count` = input corners × `components`), in
- * the order of the corners of the mesh that was subdivided — for a mesh made by
- * `katachi_mesh_create_polygons_f32`, the host's own corner order. Corners at the same
- * vertex with the same values share them, so the data's seams are where values differ.
- * Writes `components` floats per result corner with the interpolation `mode` (a
- * `KatachiFaceVarying`).
- *
- * Statuses: `KATACHI_STATUS_OK`; `KATACHI_STATUS_NULL_POINTER`;
- * `KATACHI_STATUS_INVALID_ARGUMENT` (`components` not 1 to 64, `value_count` not input
- * corners × components, a bad `mode`); `KATACHI_STATUS_BUFFER_TOO_SMALL`.
- *
- * # Safety
- * `subdivision` NULL or a live handle; `values` NULL or readable for `value_count` floats;
- * `out` NULL or writable for `capacity` floats.
- */
-KatachiStatus katachi_subdivision_refine_corner_data_f32(const struct KatachiSubdivision *subdivision,
-                                                         const float *values,
-                                                         size_t value_count,
-                                                         uint32_t components,
-                                                         uint32_t mode,
-                                                         float *out,
-                                                         size_t capacity);
 
 /**
  * Interpolates per-vertex data (colours, weights, any `components` doubles per vertex) with
@@ -1512,8 +1380,8 @@ KatachiStatus katachi_subdivision_refine_face_varying(const struct KatachiSubdiv
 
 /**
  * Copies the stencil matrix (result vertex i = Σ weights × input vertices) in compressed
- * rows: `offsets` gets `vertex_count + 1` values, `sources` and `weights` each the count
- * `katachi_subdivision_stencil_entry_count` gives.
+ * rows: `offsets` gets `vertex_count + 1` values, `sources` and `weights` each
+ * `stencil_entry_count` (see `katachi_subdivision_info`).
  *
  * # Safety
  * `subdivision` NULL or a live handle; each buffer NULL or writable for its capacity.
@@ -1606,13 +1474,10 @@ struct KatachiCutInfo katachi_cut_info_default(void);
  * `viewport`, `options` or `out` NULL, or `stroke_px` NULL with `point_count` > 0);
  * `KATACHI_STATUS_INVALID_ARGUMENT` (a bad option: `struct_size`, `mode`, `open`, a ratio,
  * angle or distance out of its range); `KATACHI_STATUS_BAD_INPUT` (a NaN or infinite stroke
- * point or matrix entry, a stroke point or viewport value beyond ±2^40 pixels, matrix
- * entries so large that its determinant overflows, fewer than two stroke points
- * `min_stroke_px` apart, a stroke that crosses itself, a singular matrix, a viewport without
- * area, an empty mesh, a cut that would split more than `max_faces_split` triangles, a
- * vertex the cut would place beyond what a double holds); `KATACHI_STATUS_BAD_TOPOLOGY` (a
- * non-manifold or inconsistently oriented edge near the stroke, a bow-tie vertex within the
- * snap distance of it). On failure `*out` is NULL.
+ * point or matrix entry, fewer than two stroke points `min_stroke_px` apart, a stroke that
+ * crosses itself, a singular matrix, a viewport without area, an empty mesh, a cut that
+ * would split more than `max_faces_split` triangles); `KATACHI_STATUS_BAD_TOPOLOGY` (a
+ * non-manifold or inconsistently oriented edge near the stroke). On failure `*out` is NULL.
  *
  * # Safety
  * `mesh` NULL or a live handle; `stroke_px` NULL or readable for 2 × `point_count` doubles;
@@ -1626,26 +1491,6 @@ KatachiStatus katachi_cut_by_stroke(const struct KatachiMesh *mesh,
                                     const double *viewport,
                                     const struct KatachiCutOptions *options,
                                     struct KatachiCut **out);
-
-/**
- * `katachi_cut_by_stroke`, calling `progress(done, total, user)` on the calling thread after
- * each step of the cut (`total` steps; no step takes long whatever the stroke's length: a
- * 200,000-point stroke is checked in linear time). When `progress` returns non-zero the cut
- * stops: `KATACHI_STATUS_CANCELLED`, `*out` NULL, the mesh unchanged. `progress` may be NULL
- * (then this is `katachi_cut_by_stroke`). Other statuses as `katachi_cut_by_stroke`.
- *
- * # Safety
- * As `katachi_cut_by_stroke`; `progress` NULL or a function safe to call with `user`.
- */
-KatachiStatus katachi_cut_by_stroke_with_progress(const struct KatachiMesh *mesh,
-                                                  const double *stroke_px,
-                                                  uint32_t point_count,
-                                                  const double *view_proj,
-                                                  const double *viewport,
-                                                  const struct KatachiCutOptions *options,
-                                                  KatachiCutProgressFn progress,
-                                                  void *user,
-                                                  struct KatachiCut **out);
 
 /**
  * Frees a result of `katachi_cut_by_stroke`. NULL is allowed and does nothing.
@@ -1799,6 +1644,277 @@ KatachiStatus katachi_cut_interpolate_vertex_data(const struct KatachiCut *cut,
                                                   uint32_t dim,
                                                   double *out,
                                                   size_t capacity);
+
+/**
+ * A `KatachiCurvedOptions` holding the defaults (order 2, the paper's μ = 1e-2 and B = 2,
+ * unit edges in the metric) and its `struct_size`.
+ */
+struct KatachiCurvedOptions katachi_curved_options_default(void);
+
+/**
+ * A new, empty input (no patches, curves or regions; metric: isotropic size 1). Free it
+ * with `katachi_curved_input_free`. On failure `*out` is NULL.
+ *
+ * # Safety
+ * `out` NULL or writable.
+ */
+KatachiStatus katachi_curved_input_new(struct KatachiCurvedInput **out);
+
+/**
+ * Frees an input. NULL is allowed and does nothing.
+ *
+ * # Safety
+ * `input` NULL or a live handle, not used afterwards.
+ */
+void katachi_curved_input_free(struct KatachiCurvedInput *input);
+
+/**
+ * Adds a tensor-product Bézier patch of bidegree (`degree_u`, `degree_v`) with
+ * `(degree_u + 1)(degree_v + 1)` control points, `points` holding 3 doubles `x y z` each,
+ * u-major (point `i·(degree_v + 1) + j` is `Q_ij`, `i` along u). Its id (0, 1, … in the
+ * order added) goes to `*out_id` when `out_id` is not NULL. Degrees and points are checked
+ * by `katachi_curved_mesh`, which names the patch.
+ *
+ * Statuses: `KATACHI_STATUS_NULL_POINTER` (`input`, or `points` with `point_count` > 0);
+ * `KATACHI_STATUS_INVALID_ARGUMENT` (`point_count` is not `(degree_u + 1)(degree_v + 1)`).
+ *
+ * # Safety
+ * `input` NULL or a live handle; `points` NULL or readable for 3 × `point_count` doubles;
+ * `out_id` NULL or writable.
+ */
+KatachiStatus katachi_curved_input_add_patch(struct KatachiCurvedInput *input,
+                                             uint32_t degree_u,
+                                             uint32_t degree_v,
+                                             const double *points,
+                                             uint32_t point_count,
+                                             uint32_t *out_id);
+
+/**
+ * Adds a Bézier curve in a patch's parameter square `[0, 1]²`: `point_count` (≥ 2) control
+ * points, `points_uv` holding 2 doubles `u v` each. Its id goes to `*out_id` when `out_id`
+ * is not NULL. A curve between two regions is added once and used by both, in opposite
+ * directions.
+ *
+ * Statuses: `KATACHI_STATUS_NULL_POINTER`; `KATACHI_STATUS_INVALID_ARGUMENT` (fewer than
+ * two points).
+ *
+ * # Safety
+ * `input` NULL or a live handle; `points_uv` NULL or readable for 2 × `point_count`
+ * doubles; `out_id` NULL or writable.
+ */
+KatachiStatus katachi_curved_input_add_curve(struct KatachiCurvedInput *input,
+                                             const double *points_uv,
+                                             uint32_t point_count,
+                                             uint32_t *out_id);
+
+/**
+ * Adds a region of patch `patch` bounded by `loop_count` loops of curve uses: loop `k`
+ * has `loop_sizes[k]` uses, taken in order from `curves` (curve ids) and `reversed`
+ * (1: the curve runs backwards in this loop; NULL: all forwards); `use_count` is their
+ * total. The first loop is the outer boundary, counter-clockwise; holes follow, clockwise
+ * (the region is on the left of every loop); consecutive curves share their end point
+ * exactly. Its id goes to `*out_id` when `out_id` is not NULL. The geometry is checked by
+ * `katachi_curved_mesh`, which names the region, loop and curve at fault.
+ *
+ * Statuses: `KATACHI_STATUS_NULL_POINTER`; `KATACHI_STATUS_INVALID_ARGUMENT` (no loops,
+ * loop sizes that do not add up to `use_count`, a `reversed` value other than 0 or 1).
+ *
+ * # Safety
+ * `input` NULL or a live handle; `loop_sizes` readable for `loop_count` values; `curves`
+ * and a non-NULL `reversed` readable for `use_count` values; `out_id` NULL or writable.
+ */
+KatachiStatus katachi_curved_input_add_region(struct KatachiCurvedInput *input,
+                                              uint32_t patch,
+                                              const uint32_t *loop_sizes,
+                                              uint32_t loop_count,
+                                              const uint32_t *curves,
+                                              const uint8_t *reversed,
+                                              uint32_t use_count,
+                                              uint32_t *out_id);
+
+/**
+ * The metric: size `size` everywhere on the surface (edges about `size` long).
+ * Checked by `katachi_curved_mesh` (a size that is not positive and finite is
+ * `KATACHI_STATUS_BAD_INPUT`).
+ *
+ * # Safety
+ * `input` NULL or a live handle.
+ */
+KatachiStatus katachi_curved_input_set_metric_isotropic(struct KatachiCurvedInput *input,
+                                                        double size);
+
+/**
+ * The metric: edges `size_along` long along `direction` (3 doubles, in R³) and
+ * `size_across` across it.
+ *
+ * # Safety
+ * `input` NULL or a live handle; `direction` NULL or readable for 3 doubles.
+ */
+KatachiStatus katachi_curved_input_set_metric_directional(struct KatachiCurvedInput *input,
+                                                          const double *direction,
+                                                          double size_along,
+                                                          double size_across);
+
+/**
+ * The metric: one symmetric tensor everywhere in R³, `tensor` holding 6 doubles
+ * `xx xy xz yy yz zz` (`I/h²` asks for edges of length h).
+ *
+ * # Safety
+ * `input` NULL or a live handle; `tensor` NULL or readable for 6 doubles.
+ */
+KatachiStatus katachi_curved_input_set_metric_tensor(struct KatachiCurvedInput *input,
+                                                     const double *tensor);
+
+/**
+ * The metric: edge sizes sampled on a regular grid in R³ over the box `min`–`max` (3
+ * doubles each) with `counts` (3 values) samples per axis, `sizes` holding
+ * `counts[0]·counts[1]·counts[2]` values, x fastest; interpolated trilinearly.
+ *
+ * Statuses: `KATACHI_STATUS_INVALID_ARGUMENT` (`size_count` is not the product of `counts`).
+ *
+ * # Safety
+ * `input` NULL or a live handle; `min`, `max` readable for 3 doubles, `counts` for 3
+ * values, `sizes` for `size_count` doubles.
+ */
+KatachiStatus katachi_curved_input_set_metric_size_grid(struct KatachiCurvedInput *input,
+                                                        const double *min,
+                                                        const double *max,
+                                                        const uint32_t *counts,
+                                                        const double *sizes,
+                                                        size_t size_count);
+
+/**
+ * The metric: tensors sampled on a regular grid in R³ (as
+ * `katachi_curved_input_set_metric_size_grid`), `tensors` holding 6 doubles
+ * `xx xy xz yy yz zz` per sample; interpolated entry by entry.
+ *
+ * # Safety
+ * As `katachi_curved_input_set_metric_size_grid`, with `tensors` readable for
+ * 6 × `tensor_count` doubles.
+ */
+KatachiStatus katachi_curved_input_set_metric_tensor_grid(struct KatachiCurvedInput *input,
+                                                          const double *min,
+                                                          const double *max,
+                                                          const uint32_t *counts,
+                                                          const double *tensors,
+                                                          size_t tensor_count);
+
+/**
+ * The metric given in the parameter square (no pull-back): tensors `uu uv vv` (3 doubles
+ * each) on a regular `counts[0] × counts[1]` grid over the box `min`–`max` (2 doubles
+ * each), u fastest, interpolated bilinearly. One sample (`counts` 1, 1) is a constant.
+ *
+ * # Safety
+ * `input` NULL or a live handle; `min`, `max`, `counts` readable for 2 values; `tensors`
+ * for 3 × `tensor_count` doubles.
+ */
+KatachiStatus katachi_curved_input_set_metric_uv_tensor_grid(struct KatachiCurvedInput *input,
+                                                             const double *min,
+                                                             const double *max,
+                                                             const uint32_t *counts,
+                                                             const double *tensors,
+                                                             size_t tensor_count);
+
+/**
+ * Meshes `input` (never changed; seed 000: the metric pulled back to each patch's parameter
+ * square, trim curves guarded, anisotropic Voronoi refinement with a minimum angle in the
+ * metric, curved elements whose edges are the trim curves) and returns the result handle in
+ * `*out`. Regions that share a curve get bitwise identical nodes along it.
+ *
+ * Statuses: `KATACHI_STATUS_NULL_POINTER`; `KATACHI_STATUS_INVALID_ARGUMENT` (a bad option);
+ * `KATACHI_STATUS_BAD_INPUT` (the message names the curve, loop, region, patch or metric
+ * sample at fault: a loop not closed, wrong orientation, curves that cross, a degenerate
+ * patch, a metric that is not positive definite; or a budget that ran out). On failure
+ * `*out` is NULL.
+ *
+ * # Safety
+ * `input` NULL or a live handle; `options` NULL or a readable `KatachiCurvedOptions`; `out`
+ * NULL or writable.
+ */
+KatachiStatus katachi_curved_mesh(const struct KatachiCurvedInput *input,
+                                  const struct KatachiCurvedOptions *options,
+                                  struct KatachiCurvedMesh **out);
+
+/**
+ * Frees a result of `katachi_curved_mesh`. NULL is allowed and does nothing.
+ *
+ * # Safety
+ * `mesh` NULL or a live handle, not used afterwards.
+ */
+void katachi_curved_mesh_free(struct KatachiCurvedMesh *mesh);
+
+/**
+ * A `KatachiCurvedInfo` with its `struct_size` set and everything else 0.
+ */
+struct KatachiCurvedInfo katachi_curved_info_default(void);
+
+/**
+ * Fills `*info` with the mesh's counts and quality. The caller sets `info->struct_size`.
+ *
+ * # Safety
+ * `mesh` NULL or a live handle; `info` NULL or writable for `info->struct_size` bytes.
+ */
+KatachiStatus katachi_curved_mesh_info(const struct KatachiCurvedMesh *mesh,
+                                       struct KatachiCurvedInfo *info);
+
+/**
+ * Copies the node coordinates, 3 doubles per node: `P(u, v)` for
+ * `KATACHI_CURVED_SPACE_SURFACE`, `(u, v, 0)` for `KATACHI_CURVED_SPACE_PARAMETER`.
+ * `(NULL, 0)` asks the size (`KATACHI_STATUS_BUFFER_TOO_SMALL` naming it).
+ *
+ * # Safety
+ * `mesh` NULL or a live handle; `coords` NULL or writable for `capacity` doubles.
+ */
+KatachiStatus katachi_curved_mesh_copy_nodes(const struct KatachiCurvedMesh *mesh,
+                                             uint32_t space,
+                                             double *coords,
+                                             size_t capacity);
+
+/**
+ * Copies the elements' node ids, `nodes_per_element` per element in Gmsh's order for
+ * triangles of the mesh's order: the three corners (counter-clockwise in the parameter
+ * square), then each edge's inner nodes (edges 0-1, 1-2, 2-0), then the inner nodes.
+ *
+ * # Safety
+ * `mesh` NULL or a live handle; `nodes` NULL or writable for `capacity` values.
+ */
+KatachiStatus katachi_curved_mesh_copy_elements(const struct KatachiCurvedMesh *mesh,
+                                                uint32_t *nodes,
+                                                size_t capacity);
+
+/**
+ * Copies one value per element: its region id, its kind (0 straight, 1 curved), and its
+ * smallest angle in degrees in its vertices' metrics (the quantity the bound is on; the
+ * MSH view "min metric angle (deg)"). Any of the three buffers may be NULL (with capacity 0)
+ * to skip it.
+ *
+ * # Safety
+ * `mesh` NULL or a live handle; each non-NULL buffer writable for its capacity.
+ */
+KatachiStatus katachi_curved_mesh_copy_element_data(const struct KatachiCurvedMesh *mesh,
+                                                    uint32_t *regions,
+                                                    size_t regions_capacity,
+                                                    uint32_t *kinds,
+                                                    size_t kinds_capacity,
+                                                    double *min_angles_degrees,
+                                                    size_t min_angles_capacity);
+
+/**
+ * Writes the mesh to `path`: Gmsh MSH 4.1 (`.msh`, high-order triangles with the views
+ * "min metric angle (deg)" and "region"), legacy VTK with Lagrange triangles (`.vtk`), or
+ * an OBJ preview (`.obj`), by the extension; nodes as `space` says. The file is replaced
+ * whole or left as it was.
+ *
+ * Statuses: `KATACHI_STATUS_NULL_POINTER`; `KATACHI_STATUS_INVALID_ARGUMENT` (`space`, a
+ * path that is not UTF-8, an unknown extension); `KATACHI_STATUS_IO_ERROR` (a write that
+ * failed).
+ *
+ * # Safety
+ * `mesh` NULL or a live handle; `path` NULL or a NUL-terminated string.
+ */
+KatachiStatus katachi_curved_mesh_write(const struct KatachiCurvedMesh *mesh,
+                                        const char *path,
+                                        uint32_t space);
 
 #ifdef __cplusplus
 }  // extern "C"

@@ -2,7 +2,7 @@
 //! cbindgen: `cargo xtask header`).
 //!
 //! One file per kernel module ([`mesh`], [`inspect`], [`io`], [`subdivide`], [`cut`] and its
-//! host layout [`cut_polygons`]) plus
+//! host layout [`cut_polygons`], [`curved`]) plus
 //! the frame ([`status`], [`version`] and the private `boundary`), and nothing but conversion
 //! and error mapping:
 //!
@@ -38,6 +38,9 @@ pub mod cut;
 
 pub mod cut_polygons;
 
+pub mod curved;
+
+pub use curved::*;
 pub use cut::*;
 pub use cut_polygons::*;
 pub use inspect::*;

@@ -6,7 +6,7 @@
 
 #![allow(dead_code, clippy::all)]
 
-pub use katachi::{cut, error, io, mesh, subdivide};
+pub use katachi::{curved, cut, error, io, mesh, subdivide};
 pub use katachi::{
     DVec3, Error, ErrorKind, FaceId, HalfedgeId, PolyMesh, Result, Topology, VertexId,
 };

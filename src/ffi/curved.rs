@@ -88,27 +88,25 @@ pub struct KatachiCurvedOptions {
 
 const OPTIONS_MIN_SIZE: usize = std::mem::size_of::<KatachiCurvedOptions>();
 
-fn options_default() -> KatachiCurvedOptions {
-    let d = CurvedOptions::default();
-    KatachiCurvedOptions {
-        struct_size: std::mem::size_of::<KatachiCurvedOptions>() as u32,
-        order: d.order,
-        max_split_depth: d.max_split_depth,
-        angle_samples: d.angle_samples,
-        sampled_quality: d.sampled_quality as u32,
-        mu: d.mu,
-        max_cone_degrees: d.max_cone_deg,
-        radius_edge_bound: d.radius_edge_bound,
-        size_bound: d.size_bound,
-        small_angle_degrees: d.small_angle_deg,
-        max_anisotropy: d.max_anisotropy,
-        min_uv_size: d.min_uv_size,
-        max_uv_size: d.max_uv_size,
-        max_sites: d.max_sites.unwrap_or(0),
-        max_steps: d.max_steps.unwrap_or(0),
-        max_curve_pieces: d.max_curve_pieces,
-    }
-}
+const OPTIONS_DEFAULT: KatachiCurvedOptions = KatachiCurvedOptions {
+    struct_size: std::mem::size_of::<KatachiCurvedOptions>() as u32,
+    order: 2,
+    max_split_depth: 50,
+    angle_samples: 4,
+    sampled_quality: 1,
+    mu: 1e-2,
+    max_cone_degrees: 179.0,
+    radius_edge_bound: 2.0,
+    // 1/√3 (`CurvedOptions::default`; a unit test checks the two agree).
+    size_bound: 0.577_350_269_189_625_8,
+    small_angle_degrees: 60.0,
+    max_anisotropy: 1e3,
+    min_uv_size: 1e-7,
+    max_uv_size: 1.0,
+    max_sites: 0,
+    max_steps: 0,
+    max_curve_pieces: 1_000_000,
+};
 
 /// The kernel's option name as the caller's `KatachiCurvedOptions` field.
 fn c_field(option: &str) -> &str {
@@ -167,25 +165,9 @@ fn options_from(o: &KatachiCurvedOptions) -> FfiResult<CurvedOptions> {
 /// unit edges in the metric) and its `struct_size`.
 #[no_mangle]
 pub extern "C" fn katachi_curved_options_default() -> KatachiCurvedOptions {
-    let fallback = KatachiCurvedOptions {
-        struct_size: std::mem::size_of::<KatachiCurvedOptions>() as u32,
-        order: 2,
-        max_split_depth: 50,
-        angle_samples: 4,
-        sampled_quality: 1,
-        mu: 1e-2,
-        max_cone_degrees: 179.0,
-        radius_edge_bound: 2.0,
-        size_bound: 1.0 / 3f64.sqrt(),
-        small_angle_degrees: 60.0,
-        max_anisotropy: 1e3,
-        min_uv_size: 1e-7,
-        max_uv_size: 1.0,
-        max_sites: 0,
-        max_steps: 0,
-        max_curve_pieces: 1_000_000,
-    };
-    guard_value("katachi_curved_options_default", fallback, options_default)
+    guard_value("katachi_curved_options_default", OPTIONS_DEFAULT, || {
+        OPTIONS_DEFAULT
+    })
 }
 
 /// A new, empty input (no patches, curves or regions; metric: isotropic size 1). Free it
@@ -961,4 +943,14 @@ pub unsafe extern "C" fn katachi_curved_mesh_write(
         m.write(std::path::Path::new(path), space)?;
         Ok(())
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn c_defaults_are_the_kernels() {
+        assert_eq!(options_from(&OPTIONS_DEFAULT), Ok(CurvedOptions::default()));
+    }
 }

@@ -310,6 +310,55 @@ static void test_bad_input(void)
               "region 0, loop 0 is not closed: use 2 (curve 2)");
     katachi_curved_input_free(in);
 
+    /* Every metric setter: wrong sample counts are refused at once, tensors that are not
+     * positive definite when meshing, naming the sample. */
+    in = square_with_hole(0.12);
+    {
+        const double lo3[3] = {0, 0, -1}, hi3[3] = {1, 1, 1}, lo2[2] = {0, 0}, hi2[2] = {1, 1};
+        const uint32_t n3[3] = {2, 2, 2}, n2[2] = {2, 2};
+        double sizes[8], tensors[8 * 6], uvt[4 * 3];
+        const double not_spd[6] = {1, 0, 0, -1, 0, 1};
+        uint32_t k;
+        for (k = 0; k < 8; k++) {
+            const double t[6] = {100, 0, 0, 100, 0, 100};
+            sizes[k] = 0.1;
+            memcpy(tensors + 6 * k, t, sizeof t);
+        }
+        for (k = 0; k < 4; k++) {
+            uvt[3 * k] = 40.0;
+            uvt[3 * k + 1] = 0.0;
+            uvt[3 * k + 2] = 40.0 + 10.0 * k;
+        }
+        CHECK_ERR("size grid: count", katachi_curved_input_set_metric_size_grid(in, lo3, hi3, n3,
+                                                                                sizes, 7),
+                  KATACHI_STATUS_INVALID_ARGUMENT, "8 samples");
+        CHECK_OK("size grid", katachi_curved_input_set_metric_size_grid(in, lo3, hi3, n3, sizes, 8));
+        CHECK_ERR("tensor grid: count",
+                  katachi_curved_input_set_metric_tensor_grid(in, lo3, hi3, n3, tensors, 9),
+                  KATACHI_STATUS_INVALID_ARGUMENT, "8 samples");
+        tensors[6 * 5 + 3] = -1.0;
+        CHECK_OK("tensor grid", katachi_curved_input_set_metric_tensor_grid(in, lo3, hi3, n3,
+                                                                            tensors, 8));
+        CHECK_ERR("tensor grid: a sample not positive definite",
+                  katachi_curved_mesh(in, &o, &m), KATACHI_STATUS_BAD_INPUT, "metric");
+        CHECK_OK("tensor", katachi_curved_input_set_metric_tensor(in, not_spd));
+        CHECK_ERR("tensor not positive definite", katachi_curved_mesh(in, &o, &m),
+                  KATACHI_STATUS_BAD_INPUT, "metric");
+        CHECK_ERR("uv tensor grid: count",
+                  katachi_curved_input_set_metric_uv_tensor_grid(in, lo2, hi2, n2, uvt, 3),
+                  KATACHI_STATUS_INVALID_ARGUMENT, "4 samples");
+        CHECK_OK("uv tensor grid",
+                 katachi_curved_input_set_metric_uv_tensor_grid(in, lo2, hi2, n2, uvt, 4));
+        o.sampled_quality = 0;
+        CHECK_OK("mesh with the uv tensor grid", katachi_curved_mesh(in, &o, &m));
+        CHECK_OK("info", katachi_curved_mesh_info(m, &info));
+        CHECK("the bound holds", info.min_angle_degrees >= info.guaranteed_angle_degrees - 1e-9);
+        katachi_curved_mesh_free(m);
+        o = katachi_curved_options_default();
+        info = katachi_curved_info_default();
+    }
+    katachi_curved_input_free(in);
+
     in = square_with_hole(-1.0);
     CHECK_ERR("negative size", katachi_curved_mesh(in, &o, &m), KATACHI_STATUS_BAD_INPUT,
               "metric");

@@ -226,6 +226,9 @@ pub enum Error {
     /// The caller cancelled the operation (through its progress function).
     #[error("{operation} was cancelled")]
     Cancelled { operation: &'static str },
+    /// Rough-model editing (seed 003) rejected its input.
+    #[error(transparent)]
+    Rough(#[from] RoughError),
     /// A bug in katachi.
     #[error("internal error: {0} (this is a bug in katachi; please report it)")]
     Internal(String),
@@ -407,4 +410,34 @@ pub enum CurvedError {
         limit: u64,
         detail: String,
     },
+}
+
+/// An error of rough-model editing ([`crate::rough`], seed 003): a band, seed or feature that
+/// cannot be used; every message names the face at fault.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum RoughError {
+    /// The band has no faces.
+    #[error("the band has no faces")]
+    EmptyBand,
+    /// A face index a caller gave is not a face of the mesh.
+    #[error("{what}: face {face} is out of range (the mesh has {face_count} faces)")]
+    FaceOutOfRange {
+        what: &'static str,
+        face: u32,
+        face_count: u32,
+    },
+    /// The seed face marking the feature side lies in the band itself.
+    #[error("the seed face {face} is in the band; give a face on the feature's side of the band")]
+    SeedInBand { face: u32 },
+    /// The seed face is on no side of the band (its part of the mesh does not touch it).
+    #[error("the seed face {face} is not next to the band (its part of the mesh does not touch the band)")]
+    SeedNotNextToBand { face: u32 },
+    /// The band does not separate the mesh into an inside and an outside: it leaves a gap.
+    #[error("the band does not separate the mesh: it is open, one of its ends is face {face}; close the band around the feature")]
+    BandNotClosed { face: u32 },
+    /// The band does not separate the mesh and reaches the mesh's boundary, where nothing
+    /// can close it.
+    #[error("the band does not separate the mesh and it reaches the mesh boundary at face {face}; close the band around the feature")]
+    BandOpenAtBoundary { face: u32 },
 }

@@ -1,10 +1,11 @@
 //! # katachi (形, "shape")
 //!
-//! A mesh-modelling kernel: solid-aware Catmull-Clark subdivision ([`subdivide`], seed 001)
-//! and the stroke cut ([`cut`], seed 002) over polygon meshes whose faces may have holes
-//! ([`mesh`]), with OBJ, PLY and OFF files ([`io`]), shipped as a Rust library, a C library
-//! ([`ffi`], `include/katachi.h`), a command-line tool, a Blender add-on and a MeshLab plugin;
-//! and curved anisotropic meshing of trimmed Bézier patches ([`curved`], seed 000; Rust API).
+//! A mesh-modelling kernel: solid-aware Catmull-Clark subdivision ([`subdivide`], seed 001),
+//! the stroke cut ([`cut`], seed 002), curved meshing ([`curved`], seed 000) and rough-model
+//! editing ([`rough`], seed 003: segmentation from a brushed band so far) over polygon meshes
+//! whose faces may have holes ([`mesh`]), with OBJ, PLY and OFF files ([`io`]), shipped as a
+//! Rust library, a C library ([`ffi`], `include/katachi.h`), a command-line tool, a Blender
+//! add-on and a MeshLab plugin.
 //!
 //! Every operation is a pure function `op(&PolyMesh, &Options) -> Result<Output, Error>`:
 //! it never changes its input, and bad input gets an [`Error`] naming the element at fault.
@@ -24,6 +25,7 @@ pub mod ffi;
 pub mod io;
 mod mem;
 pub mod mesh;
+pub mod rough;
 pub mod subdivide;
 
 pub use error::{Error, ErrorKind, Result};

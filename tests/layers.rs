@@ -26,6 +26,7 @@ fn allowed(module: &str) -> Vec<&'static str> {
             "subdivide",
             "cut",
             "curved",
+            "rough",
             "segment",
             "spline",
             "edit",

@@ -1,8 +1,8 @@
-//! Builds the C++ shim over OpenSubdiv, OpenMesh and CGAL and generates its Rust bindings,
-//! and the bindings of Gmsh's C API.
+//! Builds the C++ shim over OpenSubdiv, OpenMesh, CGAL and Boost.Graph and generates its Rust
+//! bindings, and the bindings of Gmsh's C API.
 //!
 //! Needs the Debian packages libosd-dev, libopenmesh-dev, libcgal-dev (with libgmp-dev and
-//! libmpfr-dev), libgmsh-dev, libclang-dev and a C++ compiler (g++),
+//! libmpfr-dev), libboost-graph-dev, libgmsh-dev, libclang-dev and a C++ compiler (g++),
 //! which `cargo xtask deps` installs. When one is missing the build stops with a message naming
 //! the package instead of a compiler or linker error.
 //!
@@ -13,7 +13,12 @@
 use std::env;
 use std::path::{Path, PathBuf};
 
-const SHIM_SOURCES: &[&str] = &["shim/osd.cpp", "shim/openmesh.cpp", "shim/result.cpp"];
+const SHIM_SOURCES: &[&str] = &[
+    "shim/osd.cpp",
+    "shim/openmesh.cpp",
+    "shim/result.cpp",
+    "shim/boost_flow.cpp",
+];
 /// Compiled apart, with the flag CGAL requires of GCC (-frounding-math, for its interval filters),
 /// so that the OpenSubdiv and OpenMesh code the benchmarks time is compiled as before.
 const CGAL_SOURCES: &[&str] = &["shim/cgal_cut.cpp"];
@@ -38,6 +43,11 @@ const HEADERS: &[(&str, &str, &str)] = &[
     ),
     ("mpfr.h", "libmpfr-dev", "MPFR headers (for CGAL)"),
     ("gmshc.h", "libgmsh-dev", "Gmsh 4.8's C API header"),
+    (
+        "boost/graph/boykov_kolmogorov_max_flow.hpp",
+        "libboost-graph-dev",
+        "Boost.Graph headers (the max-flow reference)",
+    ),
 ];
 const LIBRARIES: &[(&str, &str, &str)] = &[
     ("osdCPU", "libosd-dev", "OpenSubdiv's CPU library"),

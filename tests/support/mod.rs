@@ -3,6 +3,7 @@
 //! uses part of it.
 #![allow(dead_code, unused_macros, unused_imports)]
 
+pub mod boss;
 pub mod fuzz;
 pub mod models;
 pub mod property;

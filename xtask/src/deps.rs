@@ -56,6 +56,10 @@ pub const PACKAGES: &[(&str, &str)] = &[
         "Gmsh 4.8 (C API gmshc.h + libgmsh): the peer for curved meshing in tests/reference (BAMG anisotropic mesher, AnalyseMeshQuality Jacobian check)",
     ),
     (
+        "libboost-graph-dev",
+        "Boost.Graph 1.74 (boykov_kolmogorov_max_flow), the max-flow reference for rough-model segmentation in tests/reference",
+    ),
+    (
         "blender",
         "Blender 3.4, where the add-on's tests run headless (cargo xtask blender-test)",
     ),

@@ -69,6 +69,9 @@ extern "C" {
  * in KR_U32_CUT_NEW_FACES order. Level 0. */
 #define KR_F64_CUT_MIN_ANGLES 5u
 
+/* Max-flow (kr_boost_bk_max_flow): [the maximum flow] (exact: flows stay below 2^53). Level 0. */
+#define KR_F64_FLOW 6u
+
 /* uint32_t arrays of a result. */
 /* Corner count of each face. Last level always; every level with level_info. */
 #define KR_U32_FACE_SIZES 0u
@@ -110,6 +113,10 @@ extern "C" {
  *  new vertices, faces with a corner behind the eye (w <= 0), faces with no area on screen,
  *  faces of those two kinds split only because a neighbour put points on their edges] */
 #define KR_U32_CUT_COUNTS 16u
+
+/* Max-flow (kr_boost_bk_max_flow): per node, 1 if it is on the minimum cut's source side (Boost's
+ * black: the source search tree at the end), else 0. Level 0. */
+#define KR_U32_FLOW_SOURCE_SIDE 17u
 
 /* Exact stroke cut modes. */
 /* Every face under the stroke is cut, front and back (the only mode the reference implements). */
@@ -153,6 +160,17 @@ typedef struct kr_view {
     double viewport[4]; /* x0, y0, width, height */
 } kr_view;
 
+/* A flow network: nodes 0..num_nodes with capacities from the source and to the sink, and
+ * edges between two nodes with a capacity in each direction. */
+typedef struct kr_flow_network {
+    uint32_t num_nodes;
+    const int64_t *source_caps; /* num_nodes, >= 0 */
+    const int64_t *sink_caps;   /* num_nodes, >= 0 */
+    uint32_t num_edges;
+    const uint32_t *edge_nodes; /* 2 * num_edges: a, b */
+    const int64_t *edge_caps;   /* 2 * num_edges: capacity a -> b, then b -> a; >= 0 */
+} kr_flow_network;
+
 typedef struct kr_result kr_result;
 
 /*
@@ -188,6 +206,15 @@ uint32_t kr_openmesh_catmull_clark(const kr_mesh *mesh, uint32_t level, kr_resul
  */
 uint32_t kr_cgal_stroke_cut(const kr_mesh *mesh, const kr_view *view, const double *stroke_px,
                             uint32_t num_stroke_points, uint32_t mode, kr_result **out);
+
+/*
+ * Boost.Graph 1.74 boykov_kolmogorov_max_flow on an adjacency_list<vecS, vecS, directedS> holding
+ * the network plus a source and a sink vertex (each edge an arc pair with edge_reverse). The graph
+ * is built once and the max-flow call repeated `repeats` (>= 1) times; KR_F64_TIMINGS holds the
+ * seconds of each call (the library's own time: not the graph's construction), KR_F64_FLOW the
+ * flow, KR_U32_FLOW_SOURCE_SIDE the source side of the last call.
+ */
+uint32_t kr_boost_bk_max_flow(const kr_flow_network *network, uint32_t repeats, kr_result **out);
 
 /* The error message of a failed call ("" after success). Valid until kr_result_free. */
 const char *kr_result_message(const kr_result *result);

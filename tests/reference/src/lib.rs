@@ -3,10 +3,12 @@
 //! Reference Catmull-Clark subdivision from **OpenSubdiv 3.5** (Far) and **OpenMesh 9**
 //! (`CatmullClarkT`), for katachi's tests and benchmarks only. A small C++ shim
 //! (`shim/`, C linkage, plain arrays, caller-freed result handles, no C++ exception crosses into
-//! Rust) is compiled by `build.rs` and bound with bindgen.
+//! Rust) is compiled by `build.rs` and bound with bindgen. Also CGAL's exact stroke cut
+//! ([`cgal_stroke_cut`]) and Boost.Graph's Boykov–Kolmogorov max-flow ([`boost_bk_max_flow`],
+//! the reference for rough-model segmentation).
 //!
 //! Building this crate needs the Debian packages libosd-dev, libopenmesh-dev, libcgal-dev (with
-//! libgmp-dev and libmpfr-dev), libclang-dev and g++ (`cargo xtask deps` installs them); plain
+//! libgmp-dev and libmpfr-dev), libboost-graph-dev, libclang-dev and g++ (`cargo xtask deps` installs them); plain
 //! `cargo build` / `cargo test` at the workspace root never builds it.
 //!
 //! Everything is `f64`: OpenSubdiv interpolates with `Far::PrimvarRefinerReal<double>` and a
@@ -75,6 +77,7 @@ use std::ops::Range;
 use std::time::Duration;
 
 pub mod cut_setup;
+pub mod flow_graphs;
 pub mod gmsh;
 
 #[allow(
@@ -799,6 +802,66 @@ pub fn cgal_stroke_cut(
         faces_without_area: no_area as usize,
         faces_split_by_neighbours: by_neighbours as usize,
         time: RefTimings::from_seconds(&seconds).build,
+    })
+}
+
+/// A flow network for [`boost_bk_max_flow`]: nodes `0..n` with capacities from the source and
+/// to the sink, and edges `(a, b)` with a capacity each way.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct RefFlowNetwork {
+    /// Capacity from the source to each node (≥ 0).
+    pub source_caps: Vec<i64>,
+    /// Capacity from each node to the sink (≥ 0).
+    pub sink_caps: Vec<i64>,
+    /// `(a, b, capacity a → b, capacity b → a)`.
+    pub edges: Vec<(u32, u32, i64, i64)>,
+}
+
+/// What Boost.Graph's max-flow found.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BoostFlow {
+    /// The maximum flow.
+    pub flow: i64,
+    /// Per node: on the minimum cut's source side (Boost's source search tree).
+    pub source_side: Vec<bool>,
+    /// The time of each repeated call inside Boost (the graph's construction not counted).
+    pub times: Vec<Duration>,
+}
+
+/// Boost.Graph 1.74's `boykov_kolmogorov_max_flow` on `network` (an `adjacency_list` with a
+/// source and a sink vertex added), called `repeats` times on the graph built once.
+pub fn boost_bk_max_flow(network: &RefFlowNetwork, repeats: u32) -> Result<BoostFlow, String> {
+    let n = network.source_caps.len();
+    if network.sink_caps.len() != n {
+        return Err("bad argument: source and sink capacities differ in length".into());
+    }
+    let nodes: Vec<u32> = network.edges.iter().flat_map(|e| [e.0, e.1]).collect();
+    let caps: Vec<i64> = network.edges.iter().flat_map(|e| [e.2, e.3]).collect();
+    let raw = sys::kr_flow_network {
+        num_nodes: count(n, "nodes")?,
+        source_caps: network.source_caps.as_ptr(),
+        sink_caps: network.sink_caps.as_ptr(),
+        num_edges: count(network.edges.len(), "edges")?,
+        edge_nodes: nodes.as_ptr(),
+        edge_caps: caps.as_ptr(),
+    };
+    let mut out: *mut sys::kr_result = std::ptr::null_mut();
+    // SAFETY: the arrays live for the call and their lengths are the counts given.
+    let status = unsafe { sys::kr_boost_bk_max_flow(&raw, repeats, &mut out) };
+    let r = Handle::new(status, out)?;
+    let flow = r.f64(sys::KR_F64_FLOW, 0);
+    let side = r.u32(sys::KR_U32_FLOW_SOURCE_SIDE, 0);
+    if flow.len() != 1 || side.len() != n {
+        return Err("internal: the max-flow result's arrays have the wrong length".into());
+    }
+    Ok(BoostFlow {
+        flow: flow[0] as i64,
+        source_side: side.iter().map(|&s| s != 0).collect(),
+        times: r
+            .f64(sys::KR_F64_TIMINGS, 0)
+            .iter()
+            .map(|&t| Duration::from_secs_f64(t.max(0.0)))
+            .collect(),
     })
 }
 

@@ -440,4 +440,13 @@ pub enum RoughError {
     /// can close it.
     #[error("the band does not separate the mesh and it reaches the mesh boundary at face {face}; close the band around the feature")]
     BandOpenAtBoundary { face: u32 },
+    /// The region has too few points for the control net (spec §2: n_u · n_v ≤ s / 3).
+    #[error("the region has {points} points, too few for a {net_u} × {net_v} control net (a fit needs 3 points per control point); give a larger region or a smaller net")]
+    RegionTooSmall { points: u32, net_u: u32, net_v: u32 },
+    /// The region folds over its least-squares plane: it is no height field over it.
+    #[error("the region folds over its plane at face {face}: the fit's parameterization needs a region that is a height field over a plane")]
+    RegionFolds { face: u32 },
+    /// The fit's normal equations are singular: no data, and no smoothing, fixes a control point.
+    #[error("the surface fit is singular at control point ({control_u}, {control_v}): no point determines it; turn smoothing on or use a smaller net")]
+    FitSingular { control_u: u32, control_v: u32 },
 }

@@ -2,8 +2,8 @@
 //!
 //! A mesh-modelling kernel: solid-aware Catmull-Clark subdivision ([`subdivide`], seed 001),
 //! the stroke cut ([`cut`], seed 002), curved meshing ([`curved`], seed 000) and rough-model
-//! editing ([`rough`], seed 003: segmentation from a brushed band so far) over polygon meshes
-//! whose faces may have holes ([`mesh`]), with OBJ, PLY and OFF files ([`io`]), shipped as a
+//! editing ([`rough`], seed 003: segmentation from a brushed band and B-spline base-surface
+//! fitting so far) over polygon meshes whose faces may have holes ([`mesh`]), with OBJ, PLY and OFF files ([`io`]), shipped as a
 //! Rust library, a C library ([`ffi`], `include/katachi.h`), a command-line tool, a Blender
 //! add-on and a MeshLab plugin.
 //!

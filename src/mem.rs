@@ -17,10 +17,13 @@
 //! `Vec`.
 
 /// Arrays smaller than this cannot hold an aligned 2 MiB page whole.
+#[cfg(target_os = "linux")]
 const MIN_BYTES: usize = HUGE_PAGE;
+#[cfg(target_os = "linux")]
 const HUGE_PAGE: usize = 2 << 20;
 /// A [`Buf`] this large gets its own mapping: one huge-page fault costs less than the
 /// 256 small ones it replaces.
+#[cfg(target_os = "linux")]
 const MAP_MIN_BYTES: usize = 1 << 20;
 
 /// An empty vector with room for `n` elements, its pages advised huge before any is touched.

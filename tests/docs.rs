@@ -97,6 +97,7 @@ fn readme_fits_on_a_screen_and_starts_with_the_two_commands() {
         "docs/c.md",
         "docs/blender.md",
         "docs/meshlab.md",
+        "docs/windows.md",
         "docs/benchmarks.md",
         "docs/ARCHITECTURE.md",
     ] {

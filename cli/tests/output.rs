@@ -4,8 +4,11 @@
 //! characters escaped; no operation writes non-finite coordinates.
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output, Stdio};
+#[cfg(unix)]
+use std::process::Stdio;
+use std::process::{Command, Output};
 
+#[cfg(unix)]
 use katachi::mesh::shapes;
 
 fn exe() -> &'static str {
@@ -27,6 +30,7 @@ fn folder(name: &str) -> PathBuf {
     d
 }
 
+#[cfg(unix)]
 fn listing(dir: &Path) -> Vec<String> {
     let mut v: Vec<String> = std::fs::read_dir(dir)
         .unwrap()
@@ -58,6 +62,7 @@ fn assert_one_error_line(o: &Output, what: &str) -> String {
     line.to_string()
 }
 
+#[cfg(unix)]
 fn big_off(dir: &Path) -> PathBuf {
     let path = dir.join("big.off");
     katachi::io::write(&path, &shapes::torus(200, 100, 2.0, 0.5).unwrap()).unwrap();
@@ -65,6 +70,7 @@ fn big_off(dir: &Path) -> PathBuf {
 }
 
 #[test]
+#[cfg(unix)] // a shell's `ulimit -f`
 fn a_write_past_a_file_size_limit_leaves_the_old_file() {
     let dir = folder("fsize");
     let big = big_off(&dir);
@@ -102,6 +108,7 @@ fn a_write_past_a_file_size_limit_leaves_the_old_file() {
 }
 
 #[test]
+#[cfg(unix)] // /dev/full
 fn a_mesh_written_to_a_full_device_is_an_error_and_the_device_stays() {
     let dir = folder("devfull");
     let link = dir.join("full.ply");
@@ -124,6 +131,7 @@ fn a_mesh_written_to_a_full_device_is_an_error_and_the_device_stays() {
 }
 
 #[test]
+#[cfg(unix)] // /dev/full; a closed pipe is Broken pipe (EPIPE)
 fn a_full_or_closed_stdout_is_an_io_error_with_status_2() {
     let dir = folder("stdout");
     let cube = dir.join("cube.off");

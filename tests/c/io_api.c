@@ -2,7 +2,7 @@
  * C99 link test of katachi_mesh_read / katachi_mesh_write: round trips through .obj, .off and
  * .ply in a fresh temporary directory (positions bit-exact, faces unchanged, sharpness kept
  * by OBJ), faces with holes, and bad paths and files. Run by `cargo xtask ctest` under
- * valgrind.
+ * valgrind, and by `cargo xtask windows-test` under Wine.
  */
 #define _POSIX_C_SOURCE 200809L /* mkdtemp */
 
@@ -10,13 +10,13 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <unistd.h>
 
 #include "katachi.h"
 
 #include "check.h"
 #include "shapes.h"
 #include "snapshot.h"
+#include "tempdir.h"
 
 static char dir[256];
 
@@ -235,17 +235,15 @@ static void test_bad_paths_and_files(void)
 
 int main(void)
 {
-    const char *tmp = getenv("TMPDIR");
-    snprintf(dir, sizeof dir, "%s/katachi-ctest-XXXXXX", tmp != NULL && tmp[0] ? tmp : "/tmp");
-    if (mkdtemp(dir) == NULL) {
-        printf("FAIL cannot make a temporary directory under %s\n", dir);
+    if (temp_dir_make(dir, sizeof dir) != 0) {
+        printf("FAIL cannot make a temporary directory %s\n", dir);
         return 1;
     }
     printf("katachi %s, file I/O from C99 in %s\n", katachi_version_string(), dir);
     test_round_trips();
     test_faces_with_holes();
     test_bad_paths_and_files();
-    if (rmdir(dir) != 0) {
+    if (temp_dir_remove(dir) != 0) {
         CHECK("the temporary directory is empty at the end", 0);
     }
     return check_finish();

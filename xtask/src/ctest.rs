@@ -24,7 +24,7 @@ const USAGE: &str = "usage: cargo xtask ctest [--no-valgrind] [NAME…]";
 /// The tools the C tests need, with the Debian package that provides each.
 const TOOLS: [(&str, &str); 3] = [("gcc", "gcc"), ("g++", "g++"), ("valgrind", "valgrind")];
 
-const C_FLAGS: [&str; 5] = ["-std=c99", "-Wall", "-Wextra", "-Werror", "-pedantic"];
+pub(crate) const C_FLAGS: [&str; 5] = ["-std=c99", "-Wall", "-Wextra", "-Werror", "-pedantic"];
 const CXX_FLAGS: [&str; 5] = ["-std=c++17", "-Wall", "-Wextra", "-Werror", "-pthread"];
 const VALGRIND_FLAGS: [&str; 4] = [
     "--error-exitcode=1",
@@ -34,12 +34,12 @@ const VALGRIND_FLAGS: [&str; 4] = [
 ];
 
 /// One test program: its source, what compiles it, and how it links katachi.
-struct Program {
-    name: String,
-    source: PathBuf,
-    cpp: bool,
+pub(crate) struct Program {
+    pub name: String,
+    pub source: PathBuf,
+    pub cpp: bool,
     /// Link `libkatachi.a` instead of `libkatachi.so`.
-    static_lib: bool,
+    pub static_lib: bool,
 }
 
 /// The program also linked to the static library, to prove `libkatachi.a` links with only
@@ -148,7 +148,7 @@ fn check_tools(valgrind: bool) -> Result<(), String> {
 }
 
 /// The programs in `tests/c`, sorted, filtered by `only` (stems) when it is not empty.
-fn find_programs(only: &[&str]) -> Result<Vec<Program>, String> {
+pub(crate) fn find_programs(only: &[&str]) -> Result<Vec<Program>, String> {
     let dir = root().join("tests").join("c");
     let entries = std::fs::read_dir(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
     let mut programs = Vec::new();

@@ -109,6 +109,34 @@ pub const PACKAGES: &[(&str, &str)] = &[
         "imagemagick",
         "tests/meshlab/screenshot.sh captures the screen (`import`)",
     ),
+    (
+        "gcc-mingw-w64-x86-64",
+        "the linker for Rust's x86_64-pc-windows-gnu target (katachi.dll, katachi.exe) and the C compiler of the C link tests for Windows (cargo xtask windows-test)",
+    ),
+    (
+        "g++-mingw-w64-x86-64",
+        "the C++ link test (tests/c/cpp_api.cpp) compiled for Windows (cargo xtask windows-test)",
+    ),
+    (
+        "wine64",
+        "Wine 8 runs the Windows C link tests, the Windows CLI and its tests (cargo xtask windows-test)",
+    ),
+    (
+        "wine",
+        "the `wine` launcher and Wine's support files for wine64 (without wine32: only 64-bit programs are run)",
+    ),
+];
+
+/// Rust targets beyond the host's, each with why (installed with `rustup target add`).
+pub const RUST_TARGETS: &[(&str, &str)] = &[
+    (
+        crate::windows::TARGET,
+        "katachi.dll and katachi.exe for Windows, cross-built and tested under Wine (cargo xtask windows-test)",
+    ),
+    (
+        crate::macos::TARGET,
+        "the library and CLI type-checked for macOS (cargo xtask macos-check; linking needs Apple's SDK)",
+    ),
 ];
 
 fn installed(pkg: &str) -> bool {
@@ -127,6 +155,7 @@ pub fn run(_args: &[&str]) -> Result<(), String> {
             list.join(" ")
         ));
     }
+    rust_targets()?;
     let missing: Vec<&(&str, &str)> = PACKAGES.iter().filter(|(p, _)| !installed(p)).collect();
     if missing.is_empty() {
         eprintln!("xtask deps: all {} packages are installed", PACKAGES.len());
@@ -144,7 +173,9 @@ pub fn run(_args: &[&str]) -> Result<(), String> {
             .env("DEBIAN_FRONTEND", "noninteractive"),
     )?;
     let mut cmd = Command::new("apt-get");
-    cmd.args(["install", "-y", "-q", "--no-install-recommends"])
+    // Several checkouts may run their deps step at once: wait for dpkg's lock instead of failing.
+    cmd.args(["-o", "DPkg::Lock::Timeout=600"])
+        .args(["install", "-y", "-q", "--no-install-recommends"])
         .env("DEBIAN_FRONTEND", "noninteractive");
     cmd.args(missing.iter().map(|(p, _)| *p));
     util::run(&mut cmd)?;
@@ -158,6 +189,30 @@ pub fn run(_args: &[&str]) -> Result<(), String> {
     } else {
         Err(format!("apt-get did not install: {}", still.join(" ")))
     }
+}
+
+/// Adds the [`RUST_TARGETS`] rustup lacks (rustup's own download, no root needed).
+fn rust_targets() -> Result<(), String> {
+    if !have("rustup") {
+        let list: Vec<&str> = RUST_TARGETS.iter().map(|t| t.0).collect();
+        return Err(format!(
+            "rustup is not on the PATH: install these Rust targets for the toolchain by hand: {}",
+            list.join(" ")
+        ));
+    }
+    let out = Command::new("rustup")
+        .args(["target", "list", "--installed"])
+        .output()
+        .map_err(|e| format!("cannot run `rustup target list --installed`: {e}"))?;
+    let have_targets = String::from_utf8_lossy(&out.stdout).into_owned();
+    for (target, why) in RUST_TARGETS {
+        if have_targets.lines().any(|l| l.trim() == *target) {
+            continue;
+        }
+        eprintln!("xtask deps: will add the Rust target {target} ({why})");
+        util::run(Command::new("rustup").args(["target", "add", target]))?;
+    }
+    Ok(())
 }
 
 // ---------------------------------------------------------------------------------------

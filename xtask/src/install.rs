@@ -96,6 +96,11 @@ struct Package {
     description: String,
 }
 
+/// katachi's version (`MAJOR.MINOR.PATCH`), from the root `Cargo.toml`.
+pub(crate) fn version() -> Result<String, String> {
+    Package::read().map(|p| p.version)
+}
+
 impl Package {
     fn read() -> Result<Package, String> {
         let path = root().join("Cargo.toml");

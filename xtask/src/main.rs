@@ -9,10 +9,12 @@ mod ctest;
 mod deps;
 mod header;
 mod install;
+mod macos;
 mod meshlab;
 mod meshlab_bench;
 mod test;
 mod util;
+mod windows;
 
 use std::process::ExitCode;
 
@@ -34,6 +36,11 @@ tasks:
                   Blender 3.4 and bpy 5.0 [--rounds N] [--only 3.4|5.0] [-k CASE] [--no-modal]
   blender-screenshot  render the add-on's redo panel under Xvfb into docs/images/
   meshlab-bench   time the MeshLab filters against MeshLab's own (2020.09) [--rounds N]
+  windows [--release]  cross-build katachi.dll, its import library and katachi.exe for Windows
+                  (target/windows/<profile>/katachi-<version>-windows-x64/)
+  windows-test    build for Windows and run the C/C++ link tests, the installed-files check and
+                  the CLI's tests under Wine [--no-cli] [NAME…]
+  macos-check     the library and CLI type-check for macOS under clippy -D warnings (no SDK to link)
   meshlab-plugin  build the MeshLab plugin for 2020.09 and 2025.07 [--only 2020.09|2025.07];
                   --test: test it in meshlabserver 2020.09 and pymeshlab 2025.7 [-k NAME]
 ";
@@ -52,6 +59,9 @@ fn main() -> ExitCode {
         Some("meshlab-plugin") => meshlab::run(&rest),
         Some("meshlab-bench") => meshlab_bench::run(&rest),
         Some("addon") => addon::run(&rest),
+        Some("windows") => windows::run(&rest),
+        Some("windows-test") => windows::test(&rest),
+        Some("macos-check") => macos::check(&rest),
         Some("blender-test") => blender::run(&rest),
         Some("blender-bench") => blender_bench::run(&rest),
         Some("blender-screenshot") => blender::screenshot(&rest),

@@ -8,7 +8,7 @@
 //!   `../shared/data/models` beside the checkout when it exists, else none.
 //! - `--no-corpus`: run no corpus test, even with `../shared` beside the checkout.
 //! - `--fuzz-cases N`: mutated files per format in the reader fuzzing (default 2000).
-//! - `--no-c`: skip the C, installed-library and MeshLab steps.
+//! - `--no-c`: skip the C, installed-library, Windows and MeshLab steps.
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::PathBuf;
@@ -162,6 +162,10 @@ pub fn run(args: &[&str]) -> Result<(), String> {
                 ]))
             }),
         ),
+        (
+            "macOS: the library and CLI type-check (clippy, aarch64-apple-darwin)",
+            Box::new(|| crate::macos::check(&[])),
+        ),
         ("header", Box::new(crate::header::check)),
         (
             "docs",
@@ -183,6 +187,10 @@ pub fn run(args: &[&str]) -> Result<(), String> {
         steps.push((
             "installed C library (pkg-config, C and C++, valgrind)",
             Box::new(|| crate::install::test(&[])),
+        ));
+        steps.push((
+            "Windows: katachi.dll and katachi.exe cross-built; C/C++ link tests, installed files, CLI tests under Wine",
+            Box::new(|| crate::windows::test(&[])),
         ));
         steps.push((
             "MeshLab plugin (2020.09 through meshlabserver under xvfb-run, 2025.07 in pymeshlab)",
@@ -215,7 +223,7 @@ pub fn run(args: &[&str]) -> Result<(), String> {
     }
     if skip_c {
         eprintln!(
-            "xtask test: not run (--no-c): the C/C++ link tests, the installed C library, the MeshLab plugin"
+            "xtask test: not run (--no-c): the C/C++ link tests, the installed C library, the Windows build under Wine, the MeshLab plugin"
         );
     }
     Ok(())

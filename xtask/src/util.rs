@@ -60,6 +60,24 @@ pub fn cargo() -> String {
     std::env::var("CARGO").unwrap_or_else(|_| "cargo".into())
 }
 
+/// Fails, saying how to get it, when rustup has not installed the standard library of the
+/// Rust `target` for the toolchain that runs.
+pub fn require_rust_target(target: &str) -> Result<(), String> {
+    let sysroot = Command::new("rustc")
+        .args(["--print", "sysroot"])
+        .output()
+        .map_err(|e| format!("cannot run `rustc --print sysroot`: {e}"))?;
+    let sysroot = PathBuf::from(String::from_utf8_lossy(&sysroot.stdout).trim());
+    if sysroot.join("lib/rustlib").join(target).is_dir() {
+        return Ok(());
+    }
+    Err(format!(
+        "the Rust target {target} is not installed for {}: run `cargo xtask deps` \
+         (it runs `rustup target add {target}`)",
+        sysroot.display()
+    ))
+}
+
 /// Whether this process runs as root.
 pub fn is_root() -> bool {
     Command::new("id")

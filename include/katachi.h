@@ -48,7 +48,7 @@
  * break a program compiled against an older header (a function's signature, a struct's
  * layout beyond its `struct_size`, a status's meaning). Adding functions does not change it.
  */
-#define KATACHI_ABI_VERSION 1
+#define KATACHI_ABI_VERSION 2
 
 /**
  * The result of a katachi call. `KATACHI_STATUS_OK` (0) is success; every other value is a
@@ -100,6 +100,10 @@ enum KatachiStatus
      * with the message.
      */
     KATACHI_STATUS_INTERNAL_ERROR = 7,
+    /**
+     * The caller cancelled the call through its progress function; nothing was returned.
+     */
+    KATACHI_STATUS_CANCELLED = 8,
 };
 #ifndef __cplusplus
 #if __STDC_VERSION__ >= 202311L
@@ -281,6 +285,32 @@ typedef uint32_t KatachiCutStage;
 #endif // __cplusplus
 
 /**
+ * How sharpness is given or read in the `_f32` calls that take a `scale`.
+ */
+enum KatachiSharpnessScale
+#if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+  : uint32_t
+#endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+ {
+    /**
+     * OpenSubdiv's sharpness: 0 smooth, values in (0, 10) semi-sharp, ≥ 10 infinitely sharp.
+     */
+    KATACHI_SHARPNESS_SCALE_SHARPNESS = 0,
+    /**
+     * A crease weight in [0, 1], Blender's: sharpness = 10 × crease² (the mapping Blender's
+     * Subdivision Surface modifier uses with OpenSubdiv), so crease 1 is infinitely sharp.
+     */
+    KATACHI_SHARPNESS_SCALE_CREASE = 1,
+};
+#ifndef __cplusplus
+#if __STDC_VERSION__ >= 202311L
+typedef enum KatachiSharpnessScale KatachiSharpnessScale;
+#else
+typedef uint32_t KatachiSharpnessScale;
+#endif // __STDC_VERSION__ >= 202311L
+#endif // __cplusplus
+
+/**
  * Where node coordinates live (`katachi_curved_mesh_copy_nodes`, `katachi_curved_mesh_write`).
  */
 enum KatachiCurvedSpace
@@ -335,8 +365,9 @@ typedef struct KatachiCut KatachiCut;
 typedef struct KatachiMesh KatachiMesh;
 
 /**
- * The result of `katachi_subdivide`: the refined mesh and the hierarchy through which the
- * caller's vertex data and UVs follow. Opaque; free it with `katachi_subdivision_free`.
+ * The result of `katachi_subdivide`: the refined mesh, read out with the copy calls, and the
+ * hierarchy through which the caller's vertex data and UVs follow. It keeps no copy of the
+ * input. Opaque; free it with `katachi_subdivision_free`.
  */
 typedef struct KatachiSubdivision KatachiSubdivision;
 
@@ -517,10 +548,18 @@ typedef struct KatachiSubdivideOptions {
      * Default 0.
      */
     double feature_angle_degrees;
+    /**
+     * 1: cut the result's faces with holes (method `[b]`'s, and those method `[a]` could not
+     * bridge) into simple polygons along bridge edges, for hosts that store no faces with
+     * holes; every count and copy of the result then describes the cut faces. Default 0.
+     */
+    uint32_t split_faces_with_holes;
 } KatachiSubdivideOptions;
 
 /**
- * Summary of a subdivision, filled in by `katachi_subdivision_info`.
+ * Summary of a subdivision, filled in by `katachi_subdivision_info` (stored counts: the
+ * call costs nothing). Counts describe the result as the copy calls give it: with
+ * `split_faces_with_holes`, the cut faces.
  */
 typedef struct KatachiSubdivisionInfo {
     /**
@@ -540,13 +579,34 @@ typedef struct KatachiSubdivisionInfo {
      */
     uint32_t face_count;
     /**
+     * Loops of the result: one per face, plus the holes of faces with holes (equal to
+     * `face_count` when there are none).
+     */
+    uint32_t loop_count;
+    /**
      * Face corners of the result (`katachi_subdivision_refine_face_varying` writes this many).
      */
     uint32_t corner_count;
     /**
+     * Edges of the result (`katachi_subdivision_copy_edges`).
+     */
+    uint32_t edge_count;
+    /**
+     * Edges with sharpness left after refinement.
+     */
+    uint32_t sharp_edge_count;
+    /**
+     * Vertices with sharpness left after refinement.
+     */
+    uint32_t sharp_vertex_count;
+    /**
      * Vertices of the input (`katachi_subdivision_refine_vertex_data` reads this many values).
      */
     uint32_t input_vertex_count;
+    /**
+     * Faces of the input (`katachi_subdivision_carry_face_data` reads this many values).
+     */
+    uint32_t input_face_count;
     /**
      * Face corners of the input (face-varying indices expected).
      */
@@ -555,10 +615,6 @@ typedef struct KatachiSubdivisionInfo {
      * Faces with holes that method `[a]` could not bridge and that method `[b]` refined instead.
      */
     uint32_t fallback_face_count;
-    /**
-     * Entries of the stencil matrix (`katachi_subdivision_copy_stencils`).
-     */
-    uint32_t stencil_entry_count;
 } KatachiSubdivisionInfo;
 
 /**
@@ -741,6 +797,13 @@ typedef struct KatachiCutInfo {
      */
     double mean_edge_length_world;
 } KatachiCutInfo;
+
+/**
+ * Called by `katachi_cut_by_stroke_with_progress` on the calling thread after each step of
+ * the cut: `done` steps of `total` are finished. Return 0 to go on, any other value to
+ * cancel the cut. `user` is the pointer given with the callback.
+ */
+typedef uint32_t (*KatachiCutProgressFn)(uint32_t done, uint32_t total, void *user);
 
 /**
  * Options of `katachi_curved_mesh`. Start from `katachi_curved_options_default()`.
@@ -1198,6 +1261,96 @@ KatachiStatus katachi_mesh_split_faces_with_holes(const struct KatachiMesh *mesh
                                                   size_t capacity);
 
 /**
+ * Creates a mesh of simple polygons from a host's arrays, as Blender stores a mesh:
+ *
+ * - `positions`: 3 × `vertex_count` floats, `x0 y0 z0 x1 …` (kept as doubles); every value finite;
+ * - `face_starts`: `face_count` values, the index of each face's first corner in
+ *   `corner_vertices`;
+ * - `face_sizes`: `face_count` values, the corners of each face (each ≥ 3), or NULL when the
+ *   faces are stored one after the other: then `face_starts` ascends and each face ends
+ *   where the next one starts (the last at `corner_count`);
+ * - `corner_vertices`: `corner_count` vertex indices; the faces' corners add up to
+ *   `corner_count`.
+ *
+ * When the faces' corners are not stored face after face, katachi reads them in face order
+ * and remembers the host's order: the per-corner calls on results of this mesh
+ * (`katachi_subdivision_refine_corner_data_f32`) then read values in the host's order too.
+ * The arrays are copied. On success `*out` receives a new mesh (free it with
+ * `katachi_mesh_free`); on failure `*out` is NULL.
+ *
+ * Statuses: `KATACHI_STATUS_OK`; `KATACHI_STATUS_NULL_POINTER` (`out` NULL, or an array NULL
+ * with a nonzero count); `KATACHI_STATUS_INVALID_ARGUMENT` (a face's corners outside
+ * `corner_vertices`, sizes that do not add up to `corner_count`, starts that do not ascend
+ * when `face_sizes` is NULL; the message names the face); `KATACHI_STATUS_BAD_INPUT` (as
+ * `katachi_mesh_create`: a non-finite coordinate, an index out of range, a face with fewer
+ * than 3 distinct vertices or a repeated vertex).
+ *
+ * # Safety
+ * Each non-NULL array must hold the number of elements stated above; `out` must be NULL or
+ * point to writable storage for one pointer.
+ */
+KatachiStatus katachi_mesh_create_polygons_f32(const float *positions,
+                                               uint32_t vertex_count,
+                                               const uint32_t *face_starts,
+                                               const uint32_t *face_sizes,
+                                               uint32_t face_count,
+                                               const uint32_t *corner_vertices,
+                                               uint32_t corner_count,
+                                               struct KatachiMesh **out);
+
+/**
+ * Sets edge sharpness from a host's edge list, all or nothing, and counts the host's loose
+ * edges:
+ *
+ * - `edges`: 2 × `edge_count` vertex indices (`a0 b0 a1 b1 …`), the host's edges;
+ * - `values`: `edge_count` values in `scale` (a `KatachiSharpnessScale`), or NULL to set
+ *   nothing. Edges whose value is 0 are skipped, and so is an edge that is no side of any
+ *   face (a loose edge); other edges keep their sharpness;
+ * - `corner_edges`: `corner_count` values, the host's edge of each corner (in any order of
+ *   the corners), or NULL;
+ * - `*loose_edges` (when not NULL): how many of the host's edges are no side of any face —
+ *   counted exactly with `corner_edges` (the edges no corner names), otherwise only among
+ *   the edges with a nonzero value.
+ *
+ * Statuses: `KATACHI_STATUS_OK`; `KATACHI_STATUS_NULL_POINTER` (`mesh` NULL, or `edges` NULL
+ * with `edge_count > 0`); `KATACHI_STATUS_INVALID_ARGUMENT` (a vertex index out of range or
+ * an edge with twice the same vertex, named by its position; a corner's edge out of range;
+ * `corner_count` not the mesh's; a bad `scale`); `KATACHI_STATUS_BAD_INPUT` (a value outside
+ * the scale, named by its edge). On failure the mesh is unchanged.
+ *
+ * # Safety
+ * `mesh` must be NULL or a live handle that no other call is using; non-NULL arrays must
+ * hold the counts above; `loose_edges` NULL or writable.
+ */
+KatachiStatus katachi_mesh_set_edge_sharpness_f32(struct KatachiMesh *mesh,
+                                                  const uint32_t *edges,
+                                                  const float *values,
+                                                  uint32_t edge_count,
+                                                  const uint32_t *corner_edges,
+                                                  uint32_t corner_count,
+                                                  uint32_t scale,
+                                                  uint32_t *loose_edges);
+
+/**
+ * Replaces the sharpness of every vertex from a host's array, all or nothing: `values`
+ * holds `count` values in `scale` (a `KatachiSharpnessScale`), one per vertex; `count` must
+ * equal the vertex count.
+ *
+ * Statuses: `KATACHI_STATUS_OK`; `KATACHI_STATUS_NULL_POINTER`;
+ * `KATACHI_STATUS_INVALID_ARGUMENT` (`count` is not the vertex count, a bad `scale`);
+ * `KATACHI_STATUS_BAD_INPUT` (a value outside the scale, named by its vertex). On failure
+ * the mesh is unchanged.
+ *
+ * # Safety
+ * `mesh` must be NULL or a live handle that no other call is using; a non-NULL `values`
+ * must hold `count` floats.
+ */
+KatachiStatus katachi_mesh_set_vertex_sharpness_f32(struct KatachiMesh *mesh,
+                                                    const float *values,
+                                                    uint32_t count,
+                                                    uint32_t scale);
+
+/**
  * A `KatachiMeshInfo` with `struct_size = sizeof(KatachiMeshInfo)`, counts 0, `genus` −1 and
  * flags false, ready to pass to `katachi_mesh_inspect`.
  */
@@ -1311,8 +1464,9 @@ KatachiStatus katachi_subdivision_info(const struct KatachiSubdivision *subdivis
                                        struct KatachiSubdivisionInfo *info);
 
 /**
- * A new mesh handle holding the refined mesh (with its remaining creases); the caller frees
- * it with `katachi_mesh_free`. On failure `*out` is NULL.
+ * A new mesh handle holding a copy of the refined mesh (with its remaining creases); the
+ * caller frees it with `katachi_mesh_free`. On failure `*out` is NULL. To copy the result's
+ * arrays, the copy calls on the subdivision need no mesh in between.
  *
  * # Safety
  * `subdivision` NULL or a live handle; `out` NULL or writable.
@@ -1341,6 +1495,161 @@ KatachiStatus katachi_subdivision_copy_face_origin(const struct KatachiSubdivisi
 KatachiStatus katachi_subdivision_copy_fallback_faces(const struct KatachiSubdivision *subdivision,
                                                       uint32_t *faces,
                                                       size_t capacity);
+
+/**
+ * Computes the stencil matrix (kept in the subdivision; the first call costs as much as
+ * refining `input_vertex_count` sparse rows) and writes its number of entries to `*count`
+ * (the size `katachi_subdivision_copy_stencils` needs for `sources` and `weights`).
+ *
+ * # Safety
+ * `subdivision` NULL or a live handle; `count` NULL or writable.
+ */
+KatachiStatus katachi_subdivision_stencil_entry_count(const struct KatachiSubdivision *subdivision,
+                                                      uint32_t *count);
+
+/**
+ * Copies the result's positions: 3 × `vertex_count` doubles, `x0 y0 z0 x1 …`.
+ *
+ * # Safety
+ * `subdivision` NULL or a live handle; `positions` NULL or writable for `capacity` doubles.
+ */
+KatachiStatus katachi_subdivision_copy_positions(const struct KatachiSubdivision *subdivision,
+                                                 double *positions,
+                                                 size_t capacity);
+
+/**
+ * Copies the result's positions as floats (a host's own precision, such as Blender's):
+ * 3 × `vertex_count` values, each the nearest float to katachi's double.
+ *
+ * # Safety
+ * `subdivision` NULL or a live handle; `positions` NULL or writable for `capacity` floats.
+ */
+KatachiStatus katachi_subdivision_copy_positions_f32(const struct KatachiSubdivision *subdivision,
+                                                     float *positions,
+                                                     size_t capacity);
+
+/**
+ * Copies the result's faces in the form `katachi_mesh_copy_faces` gives (loop sizes, loops
+ * per face, corners), with the counts of `katachi_subdivision_info` (`loop_count`,
+ * `face_count`, `corner_count`). A buffer whose count is 0 may be NULL.
+ *
+ * # Safety
+ * `subdivision` NULL or a live handle; each buffer NULL or writable for its capacity.
+ */
+KatachiStatus katachi_subdivision_copy_faces(const struct KatachiSubdivision *subdivision,
+                                             uint32_t *loop_sizes,
+                                             size_t loop_sizes_capacity,
+                                             uint32_t *face_loop_counts,
+                                             size_t face_loop_counts_capacity,
+                                             uint32_t *corners,
+                                             size_t corners_capacity);
+
+/**
+ * Copies the result's faces as a host of simple polygons stores them (Blender): each
+ * face's first corner (`face_starts`, `face_count` values), its number of corners
+ * (`face_sizes`, `face_count` values) and the vertex of every corner (`corner_vertices`,
+ * `corner_count` values). A NULL buffer is skipped. The result must have no faces with
+ * holes (subdivide with `split_faces_with_holes`).
+ *
+ * Statuses: `KATACHI_STATUS_OK`; `KATACHI_STATUS_NULL_POINTER`;
+ * `KATACHI_STATUS_BUFFER_TOO_SMALL`; `KATACHI_STATUS_INVALID_ARGUMENT` (the result has faces
+ * with holes). On failure nothing is written.
+ *
+ * # Safety
+ * `subdivision` NULL or a live handle; each buffer NULL or writable for its capacity.
+ */
+KatachiStatus katachi_subdivision_copy_polygons(const struct KatachiSubdivision *subdivision,
+                                                uint32_t *face_starts,
+                                                size_t face_starts_capacity,
+                                                uint32_t *face_sizes,
+                                                size_t face_sizes_capacity,
+                                                uint32_t *corner_vertices,
+                                                size_t corner_vertices_capacity);
+
+/**
+ * Copies the result's edges (computed on the first call, then kept): `edges` gets their
+ * two vertices (2 × `edge_count` values), `corner_edges` the edge of each corner (the edge
+ * from it to the next corner of its loop; `corner_count` values). A NULL buffer is skipped.
+ *
+ * # Safety
+ * `subdivision` NULL or a live handle; each buffer NULL or writable for its capacity.
+ */
+KatachiStatus katachi_subdivision_copy_edges(const struct KatachiSubdivision *subdivision,
+                                             uint32_t *edges,
+                                             size_t edges_capacity,
+                                             uint32_t *corner_edges,
+                                             size_t corner_edges_capacity);
+
+/**
+ * Copies the sharpness left on each edge (`edge_count` floats, in `katachi_subdivision_copy_edges`'
+ * order) in `scale` (a `KatachiSharpnessScale`; Blender's creases with
+ * `KATACHI_SHARPNESS_SCALE_CREASE`): the user's creases not yet spent, 0 elsewhere.
+ *
+ * # Safety
+ * `subdivision` NULL or a live handle; `values` NULL or writable for `capacity` floats.
+ */
+KatachiStatus katachi_subdivision_copy_edge_sharpness_f32(const struct KatachiSubdivision *subdivision,
+                                                          float *values,
+                                                          size_t capacity,
+                                                          uint32_t scale);
+
+/**
+ * Copies the sharpness left on each vertex (`vertex_count` floats) in `scale` (a
+ * `KatachiSharpnessScale`): the user's corner sharpness not yet spent, 0 elsewhere.
+ *
+ * # Safety
+ * `subdivision` NULL or a live handle; `values` NULL or writable for `capacity` floats.
+ */
+KatachiStatus katachi_subdivision_copy_vertex_sharpness_f32(const struct KatachiSubdivision *subdivision,
+                                                            float *values,
+                                                            size_t capacity,
+                                                            uint32_t scale);
+
+/**
+ * Carries per-face data of the input to the result's faces: `values` holds `value_count`
+ * values of `value_size` bytes (1, 2, 4 or 8; one per input face: materials, smooth flags,
+ * selections), and each result face gets its input face's value in `out` (`face_count`
+ * values of `value_size` bytes). The bytes are copied as they are.
+ *
+ * Statuses: `KATACHI_STATUS_OK`; `KATACHI_STATUS_NULL_POINTER`;
+ * `KATACHI_STATUS_INVALID_ARGUMENT` (`value_size` not 1, 2, 4 or 8, `value_count` not the
+ * input's face count); `KATACHI_STATUS_BUFFER_TOO_SMALL` (`capacity`, in values).
+ *
+ * # Safety
+ * `subdivision` NULL or a live handle; `values` NULL or readable for `value_count` values
+ * of `value_size` bytes; `out` NULL or writable for `capacity` such values.
+ */
+KatachiStatus katachi_subdivision_carry_face_data(const struct KatachiSubdivision *subdivision,
+                                                  const void *values,
+                                                  size_t value_count,
+                                                  uint32_t value_size,
+                                                  void *out,
+                                                  size_t capacity);
+
+/**
+ * Interpolates per-corner data given as floats, as a host stores UV maps: `values` holds
+ * `components` floats per input corner (`value_count` = input corners × `components`), in
+ * the order of the corners of the mesh that was subdivided — for a mesh made by
+ * `katachi_mesh_create_polygons_f32`, the host's own corner order. Corners at the same
+ * vertex with the same values share them, so the data's seams are where values differ.
+ * Writes `components` floats per result corner with the interpolation `mode` (a
+ * `KatachiFaceVarying`).
+ *
+ * Statuses: `KATACHI_STATUS_OK`; `KATACHI_STATUS_NULL_POINTER`;
+ * `KATACHI_STATUS_INVALID_ARGUMENT` (`components` not 1 to 64, `value_count` not input
+ * corners × components, a bad `mode`); `KATACHI_STATUS_BUFFER_TOO_SMALL`.
+ *
+ * # Safety
+ * `subdivision` NULL or a live handle; `values` NULL or readable for `value_count` floats;
+ * `out` NULL or writable for `capacity` floats.
+ */
+KatachiStatus katachi_subdivision_refine_corner_data_f32(const struct KatachiSubdivision *subdivision,
+                                                         const float *values,
+                                                         size_t value_count,
+                                                         uint32_t components,
+                                                         uint32_t mode,
+                                                         float *out,
+                                                         size_t capacity);
 
 /**
  * Interpolates per-vertex data (colours, weights, any `components` doubles per vertex) with
@@ -1380,8 +1689,8 @@ KatachiStatus katachi_subdivision_refine_face_varying(const struct KatachiSubdiv
 
 /**
  * Copies the stencil matrix (result vertex i = Σ weights × input vertices) in compressed
- * rows: `offsets` gets `vertex_count + 1` values, `sources` and `weights` each
- * `stencil_entry_count` (see `katachi_subdivision_info`).
+ * rows: `offsets` gets `vertex_count + 1` values, `sources` and `weights` each the count
+ * `katachi_subdivision_stencil_entry_count` gives.
  *
  * # Safety
  * `subdivision` NULL or a live handle; each buffer NULL or writable for its capacity.
@@ -1474,10 +1783,13 @@ struct KatachiCutInfo katachi_cut_info_default(void);
  * `viewport`, `options` or `out` NULL, or `stroke_px` NULL with `point_count` > 0);
  * `KATACHI_STATUS_INVALID_ARGUMENT` (a bad option: `struct_size`, `mode`, `open`, a ratio,
  * angle or distance out of its range); `KATACHI_STATUS_BAD_INPUT` (a NaN or infinite stroke
- * point or matrix entry, fewer than two stroke points `min_stroke_px` apart, a stroke that
- * crosses itself, a singular matrix, a viewport without area, an empty mesh, a cut that
- * would split more than `max_faces_split` triangles); `KATACHI_STATUS_BAD_TOPOLOGY` (a
- * non-manifold or inconsistently oriented edge near the stroke). On failure `*out` is NULL.
+ * point or matrix entry, a stroke point or viewport value beyond ±2^40 pixels, matrix
+ * entries so large that its determinant overflows, fewer than two stroke points
+ * `min_stroke_px` apart, a stroke that crosses itself, a singular matrix, a viewport without
+ * area, an empty mesh, a cut that would split more than `max_faces_split` triangles, a
+ * vertex the cut would place beyond what a double holds); `KATACHI_STATUS_BAD_TOPOLOGY` (a
+ * non-manifold or inconsistently oriented edge near the stroke, a bow-tie vertex within the
+ * snap distance of it). On failure `*out` is NULL.
  *
  * # Safety
  * `mesh` NULL or a live handle; `stroke_px` NULL or readable for 2 × `point_count` doubles;
@@ -1491,6 +1803,26 @@ KatachiStatus katachi_cut_by_stroke(const struct KatachiMesh *mesh,
                                     const double *viewport,
                                     const struct KatachiCutOptions *options,
                                     struct KatachiCut **out);
+
+/**
+ * `katachi_cut_by_stroke`, calling `progress(done, total, user)` on the calling thread after
+ * each step of the cut (`total` steps; no step takes long whatever the stroke's length: a
+ * 200,000-point stroke is checked in linear time). When `progress` returns non-zero the cut
+ * stops: `KATACHI_STATUS_CANCELLED`, `*out` NULL, the mesh unchanged. `progress` may be NULL
+ * (then this is `katachi_cut_by_stroke`). Other statuses as `katachi_cut_by_stroke`.
+ *
+ * # Safety
+ * As `katachi_cut_by_stroke`; `progress` NULL or a function safe to call with `user`.
+ */
+KatachiStatus katachi_cut_by_stroke_with_progress(const struct KatachiMesh *mesh,
+                                                  const double *stroke_px,
+                                                  uint32_t point_count,
+                                                  const double *view_proj,
+                                                  const double *viewport,
+                                                  const struct KatachiCutOptions *options,
+                                                  KatachiCutProgressFn progress,
+                                                  void *user,
+                                                  struct KatachiCut **out);
 
 /**
  * Frees a result of `katachi_cut_by_stroke`. NULL is allowed and does nothing.

@@ -67,7 +67,9 @@ pub(crate) struct CellGrid {
     wide: CellLists,
 }
 
-/// Where a grid lies on screen: its corner, one over its cells' width, its cells along x and y.
+/// Where a grid lies on screen: its corner, one over its cells' width, its cells along x and y
+/// (for the x86-64 passes in `codes_simd`).
+#[cfg(target_arch = "x86_64")]
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct GridPlace {
     pub origin: DVec2,
@@ -265,6 +267,7 @@ impl CellGrid {
     }
 
     /// Where the grid lies on screen, for the passes that place points in it.
+    #[cfg(target_arch = "x86_64")]
     pub fn place(&self) -> GridPlace {
         GridPlace {
             origin: self.origin,

@@ -260,6 +260,17 @@ fn every_subcommand_reports_a_full_or_closed_stdout_with_status_2() {
             vec![cube.into(), out("k.obj"), "--stroke".into(), stroke.into()],
         ),
         ("demo", vec!["--out".into(), out("demo")]),
+        (
+            "curved-mesh",
+            vec![
+                concat!(
+                    env!("CARGO_MANIFEST_DIR"),
+                    "/../examples/curved_square_hole.json"
+                )
+                .into(),
+                out("m.msh"),
+            ],
+        ),
         ("help", vec!["info".into()]),
     ];
     let listed = subcommands();

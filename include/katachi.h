@@ -355,6 +355,11 @@ typedef struct KatachiCurvedMesh KatachiCurvedMesh;
 typedef struct KatachiCut KatachiCut;
 
 /**
+ * A cut in the input's own layout. Opaque; free it with `katachi_cut_polygons_free`.
+ */
+typedef struct KatachiCutPolygons KatachiCutPolygons;
+
+/**
  * A polygon mesh whose faces may have holes, with its attributes (edge and vertex
  * sharpness). Opaque: create it with `katachi_mesh_create`, `katachi_mesh_clone` or
  * `katachi_mesh_read`, and free it with `katachi_mesh_free`.
@@ -804,6 +809,40 @@ typedef struct KatachiCutInfo {
  * cancel the cut. `user` is the pointer given with the callback.
  */
 typedef uint32_t (*KatachiCutProgressFn)(uint32_t done, uint32_t total, void *user);
+
+/**
+ * Sizes of a `KatachiCutPolygons`, filled in by `katachi_cut_polygons_info`.
+ */
+typedef struct KatachiCutPolygonsInfo {
+    /**
+     * Set by the caller to `sizeof(KatachiCutPolygonsInfo)`.
+     */
+    uint32_t struct_size;
+    /**
+     * Vertices of the result (the input's, then the new ones).
+     */
+    uint32_t vertex_count;
+    /**
+     * Faces of the result (the input's in their slots, then the appended triangles).
+     */
+    uint32_t face_count;
+    /**
+     * Corners of the result.
+     */
+    uint32_t corner_count;
+    /**
+     * Edges of the result (the host's in their slots, then the new ones).
+     */
+    uint32_t edge_count;
+    /**
+     * Input faces given back as the polygons they were.
+     */
+    uint32_t kept_face_count;
+    /**
+     * Edges of the result on the cut paths (`katachi_cut_polygons_copy_path_edges`).
+     */
+    uint32_t path_edge_count;
+} KatachiCutPolygonsInfo;
 
 /**
  * Options of `katachi_curved_mesh`. Start from `katachi_curved_options_default()`.
@@ -1976,6 +2015,218 @@ KatachiStatus katachi_cut_interpolate_vertex_data(const struct KatachiCut *cut,
                                                   uint32_t dim,
                                                   double *out,
                                                   size_t capacity);
+
+/**
+ * A `KatachiCutPolygonsInfo` with its `struct_size` set and counts 0.
+ */
+struct KatachiCutPolygonsInfo katachi_cut_polygons_info_default(void);
+
+/**
+ * The cut `cut` of `mesh` (the mesh that was cut) in `mesh`'s own layout, for a host that
+ * stores polygons and an edge list:
+ *
+ * - faces: result face `f` below the input's face count comes from input face `f`: the
+ *   polygon it was when the cut left it alone and `keep_polygons` is 1 (faces with holes
+ *   come back as triangles), else its first triangle; the other triangles follow, each
+ *   with its input face (`katachi_cut_polygons_copy_origins`);
+ * - edges: with the host's `edges` (2 × `edge_count` vertex indices) and `corner_edges`
+ *   (the host's edge of each corner, from it to the next corner of its face, in the order
+ *   the host gave the corners to `katachi_mesh_create_polygons_f32`), result edge `e` below
+ *   `edge_count` is the host's edge `e` (a split edge keeps its piece at its first vertex,
+ *   a loose edge stays as it is), and new edges follow, each with the host edge it lies on
+ *   or none. With `edges` and `corner_edges` NULL (`edge_count` 0), the input's edges are
+ *   numbered by first use in corner order.
+ *
+ * Statuses: `KATACHI_STATUS_OK`; `KATACHI_STATUS_NULL_POINTER`;
+ * `KATACHI_STATUS_INVALID_ARGUMENT` (`mesh` is not the mesh that was cut, `corner_count`
+ * not its corner count, a corner's edge out of range or not joining the corner to the next
+ * one — the message names the corner —, `keep_polygons` not 0 or 1). On failure `*out` is
+ * NULL.
+ *
+ * # Safety
+ * `cut` and `mesh` NULL or live handles; `edges` NULL or readable for 2 × `edge_count`
+ * values, `corner_edges` NULL or readable for `corner_count`; `out` NULL or writable.
+ */
+KatachiStatus katachi_cut_polygons(const struct KatachiCut *cut,
+                                   const struct KatachiMesh *mesh,
+                                   const uint32_t *edges,
+                                   uint32_t edge_count,
+                                   const uint32_t *corner_edges,
+                                   uint32_t corner_count,
+                                   uint32_t keep_polygons,
+                                   struct KatachiCutPolygons **out);
+
+/**
+ * Frees a `KatachiCutPolygons` (NULL is ignored).
+ *
+ * # Safety
+ * `polygons` NULL or a live handle, not used afterwards.
+ */
+void katachi_cut_polygons_free(struct KatachiCutPolygons *polygons);
+
+/**
+ * Fills `*info` with the sizes of the arrays (O(1)). The caller sets `info->struct_size`.
+ *
+ * # Safety
+ * `polygons` NULL or a live handle; `info` NULL or writable for `info->struct_size` bytes.
+ */
+KatachiStatus katachi_cut_polygons_info(const struct KatachiCutPolygons *polygons,
+                                        struct KatachiCutPolygonsInfo *info);
+
+/**
+ * Copies the result's positions as floats (3 × `vertex_count`).
+ *
+ * # Safety
+ * `polygons` NULL or a live handle; `out` NULL or writable for `capacity` floats.
+ */
+KatachiStatus katachi_cut_polygons_copy_positions_f32(const struct KatachiCutPolygons *polygons,
+                                                      float *out,
+                                                      size_t capacity);
+
+/**
+ * Copies the result's positions as doubles (3 × `vertex_count`).
+ *
+ * # Safety
+ * `polygons` NULL or a live handle; `out` NULL or writable for `capacity` doubles.
+ */
+KatachiStatus katachi_cut_polygons_copy_positions(const struct KatachiCutPolygons *polygons,
+                                                  double *out,
+                                                  size_t capacity);
+
+/**
+ * Copies the result's faces as a host stores polygons: each face's first corner
+ * (`face_starts`, `face_count` values; faces are stored one after the other), its number
+ * of corners (`face_sizes`, `face_count`) and every corner's vertex (`corner_vertices`,
+ * `corner_count`). A NULL buffer is skipped; nothing is written when one is too small.
+ *
+ * # Safety
+ * `polygons` NULL or a live handle; each buffer NULL or writable for its capacity.
+ */
+KatachiStatus katachi_cut_polygons_copy_polygons(const struct KatachiCutPolygons *polygons,
+                                                 uint32_t *face_starts,
+                                                 size_t face_starts_capacity,
+                                                 uint32_t *face_sizes,
+                                                 size_t face_sizes_capacity,
+                                                 uint32_t *corner_vertices,
+                                                 size_t corner_vertices_capacity);
+
+/**
+ * Copies the result's edges: `edges` gets each edge's two vertices (2 × `edge_count`),
+ * `corner_edges` each corner's edge (from it to the next corner of its face;
+ * `corner_count`). A NULL buffer is skipped; nothing is written when one is too small.
+ *
+ * # Safety
+ * `polygons` NULL or a live handle; each buffer NULL or writable for its capacity.
+ */
+KatachiStatus katachi_cut_polygons_copy_edges(const struct KatachiCutPolygons *polygons,
+                                              uint32_t *edges,
+                                              size_t edges_capacity,
+                                              uint32_t *corner_edges,
+                                              size_t corner_edges_capacity);
+
+/**
+ * Copies where the result's elements come from: `face_origin` the input face of each
+ * face (`face_count`), `edge_origin` the host edge each edge lies on (`edge_count`),
+ * `corner_origin` the input corner of each corner (`corner_count`, in the host's corner
+ * order), with `UINT32_MAX` for none (an edge made inside a face, a corner at a new
+ * vertex). A NULL buffer is skipped; nothing is written when one is too small.
+ *
+ * # Safety
+ * `polygons` NULL or a live handle; each buffer NULL or writable for its capacity.
+ */
+KatachiStatus katachi_cut_polygons_copy_origins(const struct KatachiCutPolygons *polygons,
+                                                uint32_t *face_origin,
+                                                size_t face_origin_capacity,
+                                                uint32_t *edge_origin,
+                                                size_t edge_origin_capacity,
+                                                uint32_t *corner_origin,
+                                                size_t corner_origin_capacity);
+
+/**
+ * Copies the result's edges on the cut paths (both sides of an opened cut), ascending:
+ * `path_edge_count` values.
+ *
+ * # Safety
+ * `polygons` NULL or a live handle; `out` NULL or writable for `capacity` values.
+ */
+KatachiStatus katachi_cut_polygons_copy_path_edges(const struct KatachiCutPolygons *polygons,
+                                                   uint32_t *out,
+                                                   size_t capacity);
+
+/**
+ * Carries per-face data of the input to the result's faces: `values` holds one value of
+ * `value_size` bytes (1, 2, 4 or 8) per input face (materials, smooth flags), and each
+ * result face gets its input face's (`face_count` values into `out`). Bytes are copied as
+ * they are.
+ *
+ * Statuses: `KATACHI_STATUS_OK`; `KATACHI_STATUS_NULL_POINTER`;
+ * `KATACHI_STATUS_INVALID_ARGUMENT` (`value_size` not 1, 2, 4 or 8, `value_count` not the
+ * input's face count); `KATACHI_STATUS_BUFFER_TOO_SMALL` (`capacity`, in values).
+ *
+ * # Safety
+ * `polygons` NULL or a live handle; `values` NULL or readable for `value_count` values of
+ * `value_size` bytes; `out` NULL or writable for `capacity` such values.
+ */
+KatachiStatus katachi_cut_polygons_carry_face_data(const struct KatachiCutPolygons *polygons,
+                                                   const void *values,
+                                                   size_t value_count,
+                                                   uint32_t value_size,
+                                                   void *out,
+                                                   size_t capacity);
+
+/**
+ * Carries per-edge data of the host's edges to the result's edges, as
+ * `katachi_cut_polygons_carry_face_data` (one value per host edge in, `edge_count` out): an
+ * edge on a host edge (a piece of a split one, an opened cut's copy) takes its value, an
+ * edge made inside a face gets zero bytes.
+ *
+ * # Safety
+ * As `katachi_cut_polygons_carry_face_data`.
+ */
+KatachiStatus katachi_cut_polygons_carry_edge_data(const struct KatachiCutPolygons *polygons,
+                                                   const void *values,
+                                                   size_t value_count,
+                                                   uint32_t value_size,
+                                                   void *out,
+                                                   size_t capacity);
+
+/**
+ * Carries per-vertex data of the input to the result's vertices, as
+ * `katachi_cut_polygons_carry_face_data` (one value per input vertex in, `vertex_count`
+ * out): input vertices keep theirs, an opened cut's copy of an input vertex takes its
+ * original's, other new vertices get zero bytes (creases, flags; blend weights with
+ * `katachi_cut_interpolate_vertex_data`).
+ *
+ * # Safety
+ * As `katachi_cut_polygons_carry_face_data`.
+ */
+KatachiStatus katachi_cut_polygons_carry_vertex_data(const struct KatachiCutPolygons *polygons,
+                                                     const void *values,
+                                                     size_t value_count,
+                                                     uint32_t value_size,
+                                                     void *out,
+                                                     size_t capacity);
+
+/**
+ * Carries per-corner data given as floats, as a host stores UV maps: `values` holds
+ * `components` floats per input corner (in the host's corner order), and each result
+ * corner gets its input corner's, or, at a new vertex, the blend of the corners of the
+ * input triangle it lies in (`components` floats per result corner into `out`).
+ *
+ * Statuses: `KATACHI_STATUS_OK`; `KATACHI_STATUS_NULL_POINTER`;
+ * `KATACHI_STATUS_INVALID_ARGUMENT` (`components` not 1 to 64, `value_count` not input
+ * corners × components); `KATACHI_STATUS_BUFFER_TOO_SMALL`.
+ *
+ * # Safety
+ * `polygons` NULL or a live handle; `values` NULL or readable for `value_count` floats;
+ * `out` NULL or writable for `capacity` floats.
+ */
+KatachiStatus katachi_cut_polygons_carry_corner_data_f32(const struct KatachiCutPolygons *polygons,
+                                                         const float *values,
+                                                         size_t value_count,
+                                                         uint32_t components,
+                                                         float *out,
+                                                         size_t capacity);
 
 /**
  * A `KatachiCurvedOptions` holding the defaults (order 2, the paper's μ = 1e-2 and B = 2,

@@ -274,21 +274,20 @@ fn check_wine() -> Result<(), String> {
 /// Cross-builds the DLL, the static library and the CLI, and lays out the package.
 fn build(release: bool) -> Result<Package, String> {
     let profile = if release { "release" } else { "debug" };
-    let mut cmd = Command::new(crate::util::cargo());
-    cmd.args([
-        "build",
-        "--target",
-        TARGET,
-        "-p",
-        "katachi",
-        "--lib",
-        "-p",
-        "katachi-cli",
-    ]);
-    if release {
-        cmd.arg("--release");
+    // Two builds: `--lib` applies to every package named in one command, so together they
+    // would build the CLI crate's library only and never katachi.exe.
+    let builds: [&[&str]; 2] = [
+        &["-p", "katachi", "--lib"],
+        &["-p", "katachi-cli", "--bin", "katachi"],
+    ];
+    for what in builds {
+        let mut cmd = Command::new(crate::util::cargo());
+        cmd.args(["build", "--target", TARGET]).args(what);
+        if release {
+            cmd.arg("--release");
+        }
+        run_cmd(&mut cmd)?;
     }
-    run_cmd(&mut cmd)?;
     let built = target_dir().join(TARGET).join(profile);
     let version = crate::install::version()?;
     let dir = target_dir()

@@ -223,6 +223,7 @@ fn subdividing_coordinates_near_the_f64_limit_is_an_error_naming_the_vertex() {
 }
 
 /// The subcommands `katachi --help` lists.
+#[cfg(unix)]
 fn subcommands() -> Vec<String> {
     let o = katachi(&["--help"]);
     let help = String::from_utf8_lossy(&o.stdout).into_owned();
@@ -235,6 +236,7 @@ fn subcommands() -> Vec<String> {
 }
 
 #[test]
+#[cfg(unix)] // /dev/full; a closed pipe is Broken pipe (EPIPE)
 fn every_subcommand_reports_a_full_or_closed_stdout_with_status_2() {
     let dir = folder("stdout-everywhere");
     let cube = dir.join("cube.off");

@@ -412,13 +412,15 @@ def to_blender(result, source, name):
     return me
 
 
-def _fill(me, r, source):
-    nv, nf = len(r.positions) // 3, len(r.face_starts)
-    nc, ne = len(r.corners), len(r.edges) // 2
-    me.vertices.add(nv)
-    me.edges.add(ne)
-    me.loops.add(nc)
-    me.polygons.add(nf)
+def write_arrays(me, r, attributes):
+    """Writes result `r`'s arrays into the empty mesh `me`: its elements, topology, UV maps
+    and (Blender 4+: as `attributes`, (name, type, domain, values or None); before: materials
+    and smooth flags through the element properties) per-face data. Shared by every operator
+    that builds a mesh from katachi's arrays."""
+    me.vertices.add(len(r.positions) // 3)
+    me.edges.add(len(r.edges) // 2)
+    me.loops.add(len(r.corners))
+    me.polygons.add(len(r.face_starts))
     me.polygons.foreach_set("loop_start", r.face_starts)
     if NEW_API:
         a = me.attributes
@@ -430,12 +432,7 @@ def _fill(me, r, source):
         ):
             if len(buf):
                 a[name].data.foreach_set(prop, buf)
-        for attr, data_type, domain, values in (
-            ("material_index", "INT", "FACE", r.materials),
-            ("sharp_face", "BOOLEAN", "FACE", r.sharp_face),
-            ("crease_edge", "FLOAT", "EDGE", r.edge_creases),
-            ("crease_vert", "FLOAT", "POINT", r.vertex_creases),
-        ):
+        for attr, data_type, domain, values in attributes:
             if values is not None:
                 (a.get(attr) or a.new(attr, data_type, domain)).data.foreach_set("value", values)
         for uv_name, uv in r.uv_layers:
@@ -452,10 +449,25 @@ def _fill(me, r, source):
             me.polygons.foreach_set("material_index", r.materials)
         if r.smooth is not None:
             me.polygons.foreach_set("use_smooth", r.smooth)
-        if r.edge_creases is not None:
-            me.edges.foreach_set("crease", r.edge_creases)
         for uv_name, uv in r.uv_layers:
             add_uv_map(me, uv_name, uv)
+
+
+def _fill(me, r, source):
+    nv, nf = len(r.positions) // 3, len(r.face_starts)
+    nc, ne = len(r.corners), len(r.edges) // 2
+    write_arrays(
+        me,
+        r,
+        (
+            ("material_index", "INT", "FACE", r.materials),
+            ("sharp_face", "BOOLEAN", "FACE", r.sharp_face),
+            ("crease_edge", "FLOAT", "EDGE", r.edge_creases),
+            ("crease_vert", "FLOAT", "POINT", r.vertex_creases),
+        ),
+    )
+    if not NEW_API and r.edge_creases is not None:
+        me.edges.foreach_set("crease", r.edge_creases)
     for mat in source.materials:
         me.materials.append(mat)
     me.update()

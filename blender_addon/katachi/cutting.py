@@ -50,8 +50,8 @@ from .convert import (
     _u32,
     _void,
     _zeros,
-    add_uv_map,
     finish,
+    write_arrays,
     write_with_bmesh,
 )
 
@@ -390,46 +390,15 @@ def to_blender(src, res, source_mesh, name):
 def _fill(me, src, r, source_mesh):
     nv, nf = len(r.positions) // 3, len(r.face_starts)
     nc, ne = len(r.corners), len(r.edges) // 2
-    me.vertices.add(nv)
-    me.edges.add(ne)
-    me.loops.add(nc)
-    me.polygons.add(nf)
-    me.polygons.foreach_set("loop_start", r.face_starts)
-    if NEW_API:
-        a = me.attributes
-        for attr_name, prop, buf in (
-            ("position", "vector", r.positions),
-            (".edge_verts", "value", r.edges),
-            (".corner_vert", "value", r.corners),
-            (".corner_edge", "value", r.corner_edges),
-        ):
-            if len(buf):
-                a[attr_name].data.foreach_set(prop, buf)
-        for attr_name, data_type, domain, values in (
+    write_arrays(
+        me,
+        r,
+        (
             ("material_index", "INT", "FACE", r.materials),
             ("sharp_face", "BOOLEAN", "FACE", r.sharp_face),
             ("crease_vert", "FLOAT", "POINT", r.vertex_creases),
-        ):
-            if values is not None:
-                (a.get(attr_name) or a.new(attr_name, data_type, domain)).data.foreach_set(
-                    "value", values
-                )
-        for uv_name, uv in r.uv_layers:
-            if me.uv_layers.new(name=uv_name, do_init=False) is None:
-                raise ConversionError(f"Blender refused UV map {uv_name!r} (too many UV maps?)")
-            a[uv_name].data.foreach_set("vector", uv)
-    else:
-        me.vertices.foreach_set("co", r.positions)
-        me.edges.foreach_set("vertices", r.edges)
-        me.loops.foreach_set("vertex_index", r.corners)
-        me.loops.foreach_set("edge_index", r.corner_edges)
-        me.polygons.foreach_set("loop_total", r.face_sizes)
-        if r.materials is not None:
-            me.polygons.foreach_set("material_index", r.materials)
-        if r.smooth is not None:
-            me.polygons.foreach_set("use_smooth", r.smooth)
-        for uv_name, uv in r.uv_layers:
-            add_uv_map(me, uv_name, uv)
+        ),
+    )
     _write_edge_data(me, r)
     for mat in source_mesh.materials:
         me.materials.append(mat)
